@@ -1,0 +1,2 @@
+//! The `hocurve` command line.
+fn main() {}

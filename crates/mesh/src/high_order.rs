@@ -1,0 +1,665 @@
+//! The high-order mesh: p-th order nodes shared exactly between neighbouring cells.
+//!
+//! Global nodes are numbered vertices first, then the interior nodes of each edge, of each
+//! face (3D), of each cell ([`NodeLayout`]). The position of a shared node is computed once,
+//! from the edge's or face's canonical frame (see [`crate::canonical_face`]), so both cells
+//! sharing it get the same node id and bitwise the same coordinates whatever their local
+//! orientation; each cell then finds its local nodes in that frame through an exact
+//! integer map of lattice indices.
+
+use std::collections::{BTreeMap, HashMap};
+
+use hocurve_nodes::{NodeEntity, NodeFamily, ReferenceNodes, Shape};
+
+use crate::topology::face_key;
+use crate::{ElementType, LinearMesh, MeshError, PhysicalGroup, Topology};
+
+/// An element of a high-order mesh.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct HighOrderElement {
+    /// Element type (its shape).
+    pub kind: ElementType,
+    /// Global node ids in hocurve's canonical local order of the shape
+    /// (see [`hocurve_nodes::ReferenceNodes`]).
+    pub nodes: Vec<u32>,
+    /// Geometric entity tag, as in the linear mesh.
+    pub entity: i32,
+}
+
+/// Where each entity's nodes start in the global numbering.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct NodeLayout {
+    /// Number of vertices V (nodes `0..V`).
+    pub num_vertices: usize,
+    /// Number of unique edges E; edge e owns nodes `V + e(p−1) ..`.
+    pub num_edges: usize,
+    /// First node of each face's interior (3D; `len = F + 1`, the last entry ends the range).
+    pub face_first_node: Vec<u32>,
+    /// First node of each cell's interior (`len = C + 1`).
+    pub cell_first_node: Vec<u32>,
+}
+
+impl NodeLayout {
+    /// First interior node of edge `e`.
+    pub fn edge_first_node(&self, e: usize, order: usize) -> usize {
+        self.num_vertices + e * (order - 1)
+    }
+}
+
+/// A mesh of order p: straight-sided when built from a linear mesh, curved after hocurve
+/// has moved its nodes.
+#[derive(Debug, Clone)]
+pub struct HighOrderMesh {
+    /// Mesh dimension (2 or 3).
+    pub dim: usize,
+    /// Polynomial order p.
+    pub order: usize,
+    /// Node family of the reference elements the nodes were placed from.
+    pub family: NodeFamily,
+    /// Node coordinates.
+    pub nodes: Vec<[f64; 3]>,
+    /// Cells, same order as the linear mesh's.
+    pub cells: Vec<HighOrderElement>,
+    /// Facets declared in the file, same order as the linear mesh's, at order p.
+    pub facets: Vec<HighOrderElement>,
+    /// Topology facet (face in 3D, edge in 2D) of each declared facet.
+    pub facet_ids: Vec<u32>,
+    /// Physical groups, as in the linear mesh.
+    pub physical_groups: Vec<PhysicalGroup>,
+    /// Physical tags of each geometric entity, as in the linear mesh.
+    pub entity_physicals: BTreeMap<(usize, i32), Vec<i32>>,
+    /// Edges and faces of the underlying linear mesh.
+    pub topology: Topology,
+    /// Global node numbering.
+    pub layout: NodeLayout,
+}
+
+impl HighOrderMesh {
+    /// Places the straight-sided order-`order` nodes of `family` on every element of `mesh`.
+    pub fn from_linear(
+        mesh: &LinearMesh,
+        order: usize,
+        family: NodeFamily,
+    ) -> Result<Self, MeshError> {
+        mesh.validate()?;
+        family.check_order(order)?;
+        let topology = Topology::new(mesh)?;
+        let p = order;
+        let line = family.interior_nodes(Shape::Line, p);
+
+        // Node numbering and counts.
+        let num_vertices = mesh.vertices.len();
+        let num_edges = topology.edges.len();
+        let mut next = num_vertices + num_edges * (p - 1);
+        let mut face_first_node = Vec::with_capacity(topology.faces.len() + 1);
+        for face in topology.faces.rows() {
+            face_first_node.push(next as u32);
+            next += Shape::face_shape(face.len()).num_interior_nodes(p);
+        }
+        face_first_node.push(next as u32);
+        let mut cell_first_node = Vec::with_capacity(mesh.cells.len() + 1);
+        for cell in &mesh.cells {
+            cell_first_node.push(next as u32);
+            next += cell.kind.shape()?.num_interior_nodes(p);
+        }
+        cell_first_node.push(next as u32);
+        if next > u32::MAX as usize {
+            return Err(MeshError::UnsupportedDimension(mesh.dim)); // unreachable in practice
+        }
+        let layout = NodeLayout {
+            num_vertices,
+            num_edges,
+            face_first_node,
+            cell_first_node,
+        };
+
+        // Positions: each shared entity's nodes computed once, in its canonical frame.
+        let mut nodes = Vec::with_capacity(next);
+        nodes.extend_from_slice(&mesh.vertices);
+        for &[a, b] in &topology.edges {
+            let corners = [mesh.vertices[a as usize], mesh.vertices[b as usize]];
+            for (t, _) in &line {
+                nodes.push(straight_map(Shape::Line, &corners, *t));
+            }
+        }
+        let tri_face = family.interior_nodes(Shape::Tri, p);
+        let quad_face = family.interior_nodes(Shape::Quad, p);
+        for face in topology.faces.rows() {
+            let corners: Vec<[f64; 3]> = face.iter().map(|&v| mesh.vertices[v as usize]).collect();
+            let shape = Shape::face_shape(face.len());
+            let set = if face.len() == 3 {
+                &tri_face
+            } else {
+                &quad_face
+            };
+            for (xi, _) in set {
+                nodes.push(straight_map(shape, &corners, *xi));
+            }
+        }
+        let mut references: HashMap<Shape, ReferenceNodes> = HashMap::new();
+        for cell in &mesh.cells {
+            let shape = cell.kind.shape()?;
+            let reference = references
+                .entry(shape)
+                .or_insert_with(|| ReferenceNodes::new(shape, p, family));
+            let corners: Vec<[f64; 3]> = cell
+                .vertices
+                .iter()
+                .map(|&v| mesh.vertices[v as usize])
+                .collect();
+            for (xi, entity) in reference.points().iter().zip(reference.entities()) {
+                if let NodeEntity::Interior(_) = entity {
+                    nodes.push(straight_map(shape, &corners, *xi));
+                }
+            }
+        }
+        debug_assert_eq!(nodes.len(), next);
+
+        // Connectivity in canonical local order.
+        let mut faces = FaceFrames::new(p, family);
+        let mut cells = Vec::with_capacity(mesh.cells.len());
+        for (c, cell) in mesh.cells.iter().enumerate() {
+            let shape = cell.kind.shape()?;
+            let reference = &references[&shape];
+            let cell_edges = topology.cell_edges.row(c);
+            let cell_faces = topology.cell_faces.row(c);
+            let v = &cell.vertices;
+            let mut ids = Vec::with_capacity(reference.len());
+            for entity in reference.entities() {
+                let id = match *entity {
+                    NodeEntity::Vertex(i) => v[i] as usize,
+                    NodeEntity::Edge { edge, index } => {
+                        let [a, b] = shape.edges()[edge];
+                        edge_node(&layout, p, cell_edges[edge] as usize, v[a] > v[b], index)
+                    }
+                    NodeEntity::Face { face, index } => {
+                        let f = cell_faces[face] as usize;
+                        let local: Vec<u32> = shape.faces()[face].iter().map(|&i| v[i]).collect();
+                        let map = faces.interior_map(&local, topology.faces.row(f));
+                        layout.face_first_node[f] as usize + map[index]
+                    }
+                    NodeEntity::Interior(index) => layout.cell_first_node[c] as usize + index,
+                };
+                ids.push(id as u32);
+            }
+            cells.push(HighOrderElement {
+                kind: cell.kind,
+                nodes: ids,
+                entity: cell.entity,
+            });
+        }
+
+        // Declared facets: find their edge (2D) or face (3D), then lay out their nodes.
+        let edge_index: HashMap<[u32; 2], u32> = topology
+            .edges
+            .iter()
+            .enumerate()
+            .map(|(i, &e)| (e, i as u32))
+            .collect();
+        let face_index: HashMap<[u32; 4], u32> = topology
+            .faces
+            .rows()
+            .enumerate()
+            .map(|(i, f)| (face_key(f), i as u32))
+            .collect();
+        let find_edge = |a: u32, b: u32| edge_index.get(&if a < b { [a, b] } else { [b, a] });
+        let mut facets = Vec::with_capacity(mesh.facets.len());
+        let mut facet_ids = Vec::with_capacity(mesh.facets.len());
+        for (k, facet) in mesh.facets.iter().enumerate() {
+            let not_found = || MeshError::FacetNotInMesh {
+                index: k,
+                vertices: facet.vertices.clone(),
+            };
+            let shape = facet.kind.shape()?;
+            let v = &facet.vertices;
+            let facet_id = if mesh.dim == 2 {
+                *find_edge(v[0], v[1]).ok_or_else(not_found)?
+            } else {
+                *face_index.get(&face_key(v)).ok_or_else(not_found)?
+            };
+            let reference = references
+                .entry(shape)
+                .or_insert_with(|| ReferenceNodes::new(shape, p, family));
+            let mut ids = Vec::with_capacity(reference.len());
+            for entity in reference.entities() {
+                let id = match *entity {
+                    NodeEntity::Vertex(i) => v[i] as usize,
+                    NodeEntity::Edge { edge, index } => {
+                        let [a, b] = shape.edges()[edge];
+                        let e = *find_edge(v[a], v[b]).ok_or_else(not_found)? as usize;
+                        edge_node(&layout, p, e, v[a] > v[b], index)
+                    }
+                    NodeEntity::Interior(index) => {
+                        let f = facet_id as usize;
+                        let map = faces.interior_map(v, topology.faces.row(f));
+                        layout.face_first_node[f] as usize + map[index]
+                    }
+                    NodeEntity::Face { .. } => unreachable!("facets are at most 2D"),
+                };
+                ids.push(id as u32);
+            }
+            facets.push(HighOrderElement {
+                kind: facet.kind,
+                nodes: ids,
+                entity: facet.entity,
+            });
+            facet_ids.push(facet_id);
+        }
+
+        Ok(HighOrderMesh {
+            dim: mesh.dim,
+            order,
+            family,
+            nodes,
+            cells,
+            facets,
+            facet_ids,
+            physical_groups: mesh.physical_groups.clone(),
+            entity_physicals: mesh.entity_physicals.clone(),
+            topology,
+            layout,
+        })
+    }
+
+    /// Number of nodes the layout predicts: V + E(p−1) + Σ faces' interiors + Σ cells'
+    /// interiors.
+    pub fn expected_node_count(&self) -> usize {
+        let p = self.order;
+        let faces: usize = self
+            .topology
+            .faces
+            .rows()
+            .map(|f| Shape::face_shape(f.len()).num_interior_nodes(p))
+            .sum();
+        let cells: usize = self
+            .cells
+            .iter()
+            .map(|c| c.kind.shape().map_or(0, |s| s.num_interior_nodes(p)))
+            .sum();
+        self.layout.num_vertices + self.layout.num_edges * (p - 1) + faces + cells
+    }
+
+    /// The physical tags of an element of dimension `dim` on entity `entity`.
+    pub fn physical_tags(&self, dim: usize, entity: i32) -> &[i32] {
+        self.entity_physicals
+            .get(&(dim, entity))
+            .map(Vec::as_slice)
+            .unwrap_or(&[])
+    }
+}
+
+/// Global id of the `index`-th interior node of edge `e` as seen from an element whose local
+/// edge runs against the canonical direction when `reversed`.
+fn edge_node(layout: &NodeLayout, p: usize, e: usize, reversed: bool, index: usize) -> usize {
+    let k = if reversed { p - 2 - index } else { index };
+    layout.edge_first_node(e, p) + k
+}
+
+/// The straight-sided map x(ξ) = Σ Nᵢ(ξ) xᵢ of a shape with corner coordinates `corners`.
+pub(crate) fn straight_map(shape: Shape, corners: &[[f64; 3]], xi: [f64; 3]) -> [f64; 3] {
+    let (n, len) = shape.vertex_shape_functions(xi);
+    let mut x = [0.0; 3];
+    for (ni, c) in n[..len].iter().zip(corners) {
+        for d in 0..3 {
+            x[d] += ni * c[d];
+        }
+    }
+    x
+}
+
+/// Maps between a face's interior nodes seen in a local frame and in its canonical frame,
+/// cached per orientation (a permutation of the face's vertices).
+struct FaceFrames {
+    p: i64,
+    /// Interior lattice (i, j) → interior index, for triangles and quadrilaterals.
+    tri_index: HashMap<[i64; 2], usize>,
+    quad_index: HashMap<[i64; 2], usize>,
+    tri_lattice: Vec<[i64; 3]>,
+    quad_lattice: Vec<[i64; 3]>,
+    cache: HashMap<(usize, [u8; 4]), Vec<usize>>,
+}
+
+impl FaceFrames {
+    fn new(p: usize, family: NodeFamily) -> Self {
+        let lattice = |s| -> Vec<[i64; 3]> {
+            family
+                .interior_nodes(s, p)
+                .into_iter()
+                .map(|(_, l)| l)
+                .collect()
+        };
+        let tri_lattice = lattice(Shape::Tri);
+        let quad_lattice = lattice(Shape::Quad);
+        let index = |l: &[[i64; 3]]| {
+            l.iter()
+                .enumerate()
+                .map(|(i, m)| ([m[0], m[1]], i))
+                .collect()
+        };
+        FaceFrames {
+            p: p as i64,
+            tri_index: index(&tri_lattice),
+            quad_index: index(&quad_lattice),
+            tri_lattice,
+            quad_lattice,
+            cache: HashMap::new(),
+        }
+    }
+
+    /// For a face whose vertices are `local` in a local frame (origin `local[0]`, ξ towards
+    /// `local[1]`, η towards the last) and `canonical` in the canonical frame, entry k is the
+    /// canonical interior index of the local interior node k.
+    fn interior_map(&mut self, local: &[u32], canonical: &[u32]) -> &[usize] {
+        let n = local.len();
+        // sigma[r]: position in the canonical frame of local vertex r.
+        let mut sigma = [0u8; 4];
+        for (r, v) in local.iter().enumerate() {
+            sigma[r] = canonical.iter().position(|c| c == v).unwrap_or(0) as u8;
+        }
+        let p = self.p;
+        let FaceFrames {
+            tri_index,
+            quad_index,
+            tri_lattice,
+            quad_lattice,
+            cache,
+            ..
+        } = self;
+        cache.entry((n, sigma)).or_insert_with(|| {
+            if n == 3 {
+                tri_lattice
+                    .iter()
+                    .map(|l| {
+                        // Barycentric lattice coordinates over the local vertices, permuted.
+                        let local_bary = [p - l[0] - l[1], l[0], l[1]];
+                        let mut bary = [0; 3];
+                        for r in 0..3 {
+                            bary[sigma[r] as usize] = local_bary[r];
+                        }
+                        tri_index[&[bary[1], bary[2]]]
+                    })
+                    .collect()
+            } else {
+                let corner = [[0, 0], [p, 0], [p, p], [0, p]];
+                let local_of = |canon_pos: u8| {
+                    let r = sigma
+                        .iter()
+                        .take(4)
+                        .position(|&s| s == canon_pos)
+                        .unwrap_or(0);
+                    corner[r]
+                };
+                let (o, a, b) = (local_of(0), local_of(1), local_of(3));
+                quad_lattice
+                    .iter()
+                    .map(|l| {
+                        let d = [l[0] - o[0], l[1] - o[1]];
+                        let i = (d[0] * (a[0] - o[0]) + d[1] * (a[1] - o[1])) / p;
+                        let j = (d[0] * (b[0] - o[0]) + d[1] * (b[1] - o[1])) / p;
+                        quad_index[&[i, j]]
+                    })
+                    .collect()
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Element;
+    use std::collections::HashSet;
+
+    /// Deterministic pseudo-random permutation of 0..n (a tiny LCG; no dependency needed).
+    fn permutation(n: usize, seed: u64) -> Vec<u32> {
+        let mut state = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let mut v: Vec<u32> = (0..n as u32).collect();
+        for i in (1..n).rev() {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let j = (state >> 33) as usize % (i + 1);
+            v.swap(i, j);
+        }
+        v
+    }
+
+    /// Builds the mesh under `relabelings` renumberings of its vertices and checks, for every
+    /// p: the node count formula, that every local node sits where the cell's own straight
+    /// map puts it, and that no two global nodes coincide (no duplicated shared nodes).
+    /// Returns the face orientations seen (as permutations local → canonical).
+    fn check_sharing(
+        dim: usize,
+        vertices: &[[f64; 3]],
+        cells: &[(ElementType, Vec<u32>)],
+        relabelings: u64,
+    ) -> HashSet<Vec<usize>> {
+        let mut orientations = HashSet::new();
+        for seed in 0..relabelings {
+            let perm = permutation(vertices.len(), seed);
+            let mut relabeled = vec![[0.0; 3]; vertices.len()];
+            for (old, &new) in perm.iter().enumerate() {
+                relabeled[new as usize] = vertices[old];
+            }
+            let mesh = LinearMesh {
+                dim,
+                vertices: relabeled,
+                cells: cells
+                    .iter()
+                    .map(|(kind, v)| Element {
+                        kind: *kind,
+                        vertices: v.iter().map(|&i| perm[i as usize]).collect(),
+                        entity: 1,
+                    })
+                    .collect(),
+                ..Default::default()
+            };
+            for p in 1..=6 {
+                let ho = HighOrderMesh::from_linear(&mesh, p, NodeFamily::Equispaced).unwrap();
+                assert_eq!(ho.nodes.len(), ho.expected_node_count());
+                for (cell, lin) in ho.cells.iter().zip(&mesh.cells) {
+                    let shape = cell.kind.shape().unwrap();
+                    let reference = ReferenceNodes::new(shape, p, NodeFamily::Equispaced);
+                    let corners: Vec<[f64; 3]> = lin
+                        .vertices
+                        .iter()
+                        .map(|&v| mesh.vertices[v as usize])
+                        .collect();
+                    for (xi, &id) in reference.points().iter().zip(&cell.nodes) {
+                        let want = straight_map(shape, &corners, *xi);
+                        let got = ho.nodes[id as usize];
+                        for d in 0..3 {
+                            assert!((want[d] - got[d]).abs() < 1e-13, "{shape:?} p={p}");
+                        }
+                    }
+                }
+                // No two nodes at the same place: shared nodes were not duplicated.
+                let mut seen = HashSet::new();
+                for x in &ho.nodes {
+                    let key = x.map(|c| (c * 1e9).round() as i64);
+                    assert!(seen.insert(key), "duplicate node at {x:?} (p={p})");
+                }
+                if p == 2 {
+                    for (c, lin) in mesh.cells.iter().enumerate() {
+                        let shape = lin.kind.shape().unwrap();
+                        for (f, face) in shape.faces().iter().enumerate() {
+                            let g = ho.topology.cell_faces.row(c)[f] as usize;
+                            if ho.topology.facet_cells[g][1] == crate::NO_CELL {
+                                continue;
+                            }
+                            let canon = ho.topology.faces.row(g);
+                            let sigma = face
+                                .iter()
+                                .map(|&i| canon.iter().position(|&v| v == lin.vertices[i]).unwrap())
+                                .collect();
+                            orientations.insert(sigma);
+                        }
+                    }
+                }
+            }
+        }
+        orientations
+    }
+
+    #[test]
+    fn two_tets_share_face_nodes_in_all_six_orientations() {
+        let vertices = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.2, 0.3, 1.0],
+            [0.4, 0.3, -0.9],
+        ];
+        let cells = vec![
+            (ElementType::Tet, vec![0, 1, 2, 3]),
+            (ElementType::Tet, vec![0, 2, 1, 4]),
+        ];
+        let seen = check_sharing(3, &vertices, &cells, 60);
+        assert_eq!(seen.len(), 6, "orientations seen: {seen:?}");
+    }
+
+    #[test]
+    fn two_hexes_share_quad_face_nodes_in_all_eight_orientations() {
+        let mut vertices = Vec::new();
+        for z in 0..2 {
+            for y in 0..2 {
+                for x in 0..3 {
+                    // Slightly distorted so the bilinear faces are not parallelograms.
+                    let w = 0.1 * (x * y + z) as f64;
+                    vertices.push([x as f64 + w, y as f64, z as f64 + 0.05 * x as f64]);
+                }
+            }
+        }
+        let id = |x: u32, y: u32, z: u32| x + 3 * y + 6 * z;
+        let hex = |x0: u32| {
+            vec![
+                id(x0, 0, 0),
+                id(x0 + 1, 0, 0),
+                id(x0 + 1, 1, 0),
+                id(x0, 1, 0),
+                id(x0, 0, 1),
+                id(x0 + 1, 0, 1),
+                id(x0 + 1, 1, 1),
+                id(x0, 1, 1),
+            ]
+        };
+        let cells = vec![(ElementType::Hex, hex(0)), (ElementType::Hex, hex(1))];
+        let seen = check_sharing(3, &vertices, &cells, 80);
+        assert_eq!(seen.len(), 8, "orientations seen: {seen:?}");
+    }
+
+    #[test]
+    fn prisms_share_triangle_and_quad_faces_and_hex_prism_hybrids_agree() {
+        // Two prisms stacked (shared triangle), a third beside (shared quad), a hex beside.
+        let vertices = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.1],
+            [0.0, 1.0, 1.0],
+            [0.0, 0.0, 2.0],
+            [1.0, 0.0, 2.0],
+            [0.0, 1.0, 2.1],
+            [1.0, 1.0, 0.0],
+            [1.0, 1.0, 1.0],
+            [0.0, -1.0, 0.0],
+            [1.0, -1.0, 0.0],
+            [0.0, -1.0, 1.0],
+            [1.0, -1.0, 1.0],
+        ];
+        let cells = vec![
+            (ElementType::Prism, vec![0, 1, 2, 3, 4, 5]),
+            (ElementType::Prism, vec![3, 4, 5, 6, 7, 8]),
+            (ElementType::Prism, vec![1, 9, 2, 4, 10, 5]),
+            (ElementType::Hex, vec![11, 12, 1, 0, 13, 14, 4, 3]),
+        ];
+        let seen = check_sharing(3, &vertices, &cells, 40);
+        assert!(seen.iter().any(|s| s.len() == 3) && seen.iter().any(|s| s.len() == 4));
+    }
+
+    #[test]
+    fn triangles_and_quads_share_edge_nodes_in_2d() {
+        let vertices = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [2.0, 0.5, 0.0],
+        ];
+        let cells = vec![
+            (ElementType::Quad, vec![0, 1, 2, 3]),
+            (ElementType::Tri, vec![1, 4, 2]),
+        ];
+        check_sharing(2, &vertices, &cells, 20);
+    }
+
+    #[test]
+    fn facets_get_the_nodes_of_their_face() {
+        let mesh = LinearMesh {
+            dim: 3,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            cells: vec![Element {
+                kind: ElementType::Tet,
+                vertices: vec![0, 1, 2, 3],
+                entity: 1,
+            }],
+            facets: vec![Element {
+                kind: ElementType::Tri,
+                vertices: vec![3, 1, 2],
+                entity: 7,
+            }],
+            ..Default::default()
+        };
+        for p in 1..=5 {
+            let ho = HighOrderMesh::from_linear(&mesh, p, NodeFamily::Equispaced).unwrap();
+            let facet = &ho.facets[0];
+            let reference = ReferenceNodes::new(Shape::Tri, p, NodeFamily::Equispaced);
+            let corners = [mesh.vertices[3], mesh.vertices[1], mesh.vertices[2]];
+            for (xi, &id) in reference.points().iter().zip(&facet.nodes) {
+                let want = straight_map(Shape::Tri, &corners, *xi);
+                let got = ho.nodes[id as usize];
+                assert!((0..3).all(|d| (want[d] - got[d]).abs() < 1e-14));
+            }
+        }
+        let mut bad = mesh.clone();
+        bad.facets[0].vertices = vec![0, 1, 2];
+        bad.vertices.push([5.0, 5.0, 5.0]);
+        bad.facets[0].vertices[2] = 4;
+        let err = HighOrderMesh::from_linear(&bad, 2, NodeFamily::Equispaced).unwrap_err();
+        assert!(
+            matches!(err, MeshError::FacetNotInMesh { index: 0, .. }),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn pyramids_and_bad_vertex_ids_are_clear_errors() {
+        let mut mesh = LinearMesh {
+            dim: 3,
+            vertices: vec![[0.0; 3]; 5],
+            cells: vec![Element {
+                kind: ElementType::Pyramid,
+                vertices: vec![0, 1, 2, 3, 4],
+                entity: 1,
+            }],
+            ..Default::default()
+        };
+        let err = HighOrderMesh::from_linear(&mesh, 2, NodeFamily::Equispaced).unwrap_err();
+        assert!(err.to_string().contains("pyramid"), "{err}");
+        mesh.cells[0] = Element {
+            kind: ElementType::Tet,
+            vertices: vec![0, 1, 2, 9],
+            entity: 1,
+        };
+        let err = HighOrderMesh::from_linear(&mesh, 2, NodeFamily::Equispaced).unwrap_err();
+        assert!(err.to_string().contains("vertex 9"), "{err}");
+    }
+}

@@ -1,0 +1,129 @@
+//! The mesh data model of hocurve: the straight-sided [`LinearMesh`] read from a file, its
+//! [`Topology`] (unique edges and faces, which cells share them, the boundary), and the
+//! [`HighOrderMesh`] whose p-th order nodes are shared exactly between neighbouring cells
+//! (the node layout of the paper's Sect. 3–4: vertex, edge, face and interior nodes).
+//!
+//! ```
+//! use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+//! use hocurve_nodes::NodeFamily;
+//! // Two triangles forming the unit square.
+//! let mesh = LinearMesh {
+//!     dim: 2,
+//!     vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+//!     cells: vec![
+//!         Element { kind: ElementType::Tri, vertices: vec![0, 1, 2], entity: 1 },
+//!         Element { kind: ElementType::Tri, vertices: vec![0, 2, 3], entity: 1 },
+//!     ],
+//!     ..Default::default()
+//! };
+//! let ho = HighOrderMesh::from_linear(&mesh, 3, NodeFamily::Equispaced).unwrap();
+//! // V + E(p−1) + F(p−1)(p−2)/2 = 4 + 5·2 + 2·1
+//! assert_eq!(ho.nodes.len(), 16);
+//! ```
+
+mod element;
+mod high_order;
+mod jagged;
+mod linear;
+mod topology;
+
+pub use element::ElementType;
+pub use high_order::{HighOrderElement, HighOrderMesh, NodeLayout};
+pub use jagged::Jagged;
+pub use linear::{Element, LinearMesh, PhysicalGroup};
+pub use topology::{canonical_face, Topology, NO_CELL};
+
+/// Errors of the mesh model. Indices are 0-based positions in the mesh's lists.
+#[derive(Debug, thiserror::Error)]
+pub enum MeshError {
+    /// An element type hocurve cannot handle yet.
+    #[error("{0} elements are not supported (supported: triangle, quadrilateral, tetrahedron, hexahedron, prism)")]
+    UnsupportedElement(ElementType),
+    /// Only 2D and 3D meshes are meshes hocurve can curve.
+    #[error("mesh dimension {0} is not supported (expected 2 or 3)")]
+    UnsupportedDimension(usize),
+    /// The mesh has no cells of its dimension.
+    #[error("the mesh has no {dim}D cells")]
+    NoCells {
+        /// Mesh dimension.
+        dim: usize,
+    },
+    /// An element of the wrong dimension in a list.
+    #[error("{what} {index} is a {kind}, expected an element of dimension {expected}")]
+    WrongDimension {
+        /// "cell" or "facet".
+        what: &'static str,
+        /// Element index.
+        index: usize,
+        /// Its type.
+        kind: ElementType,
+        /// Expected dimension.
+        expected: usize,
+    },
+    /// Vertex count does not match the element type.
+    #[error("{what} {index} is a {kind} with {found} vertices")]
+    WrongVertexCount {
+        /// "cell" or "facet".
+        what: &'static str,
+        /// Element index.
+        index: usize,
+        /// Its type.
+        kind: ElementType,
+        /// Vertices given.
+        found: usize,
+    },
+    /// A vertex id outside the vertex list.
+    #[error("{what} {index} references vertex {vertex}, but the mesh has {count} vertices")]
+    VertexOutOfRange {
+        /// "cell" or "facet".
+        what: &'static str,
+        /// Element index.
+        index: usize,
+        /// The bad vertex id.
+        vertex: usize,
+        /// Number of vertices.
+        count: usize,
+    },
+    /// The same vertex twice in one element (a collapsed element).
+    #[error("{what} {index} uses vertex {vertex} twice (collapsed element)")]
+    RepeatedVertex {
+        /// "cell" or "facet".
+        what: &'static str,
+        /// Element index.
+        index: usize,
+        /// The repeated vertex.
+        vertex: usize,
+    },
+    /// A vertex coordinate is NaN or infinite.
+    #[error("vertex {0} has a non-finite coordinate")]
+    NonFiniteVertex(usize),
+    /// More than two cells share a face (or, in 2D, an edge).
+    #[error("non-manifold mesh: more than two cells share the facet with vertices {vertices:?}")]
+    NonManifold {
+        /// The facet's vertices.
+        vertices: Vec<u32>,
+    },
+    /// A facet of the file is not a face of any cell.
+    #[error("facet {index} (vertices {vertices:?}) is not a face of any cell")]
+    FacetNotInMesh {
+        /// Facet index.
+        index: usize,
+        /// Its vertices.
+        vertices: Vec<u32>,
+    },
+    /// A cell with non-positive volume (or, in 2D, orientation opposite to the others).
+    #[error(
+        "cell {index} is inverted or degenerate (signed Jacobian {jacobian:e} at vertex {vertex})"
+    )]
+    InvertedCell {
+        /// Cell index.
+        index: usize,
+        /// Local vertex where the Jacobian was measured.
+        vertex: usize,
+        /// Signed Jacobian determinant there.
+        jacobian: f64,
+    },
+    /// The nodal set could not be built.
+    #[error(transparent)]
+    Nodes(#[from] hocurve_nodes::NodesError),
+}

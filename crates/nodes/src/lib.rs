@@ -1,0 +1,36 @@
+//! Reference elements for high-order finite elements: the shapes hocurve meshes are made of
+//! ([`Shape`]), their vertices, edges and faces, and the p-th order nodal sets placed on them
+//! ([`ReferenceNodes`], families in [`NodeFamily`]).
+//!
+//! Every reference element lives in the unit box: the simplices have their right-angle
+//! vertex at the origin, the quadrilateral and hexahedron are `[0, 1]^d`. Nodes are listed
+//! in hocurve's *canonical local order*: vertices, then the interior nodes of each edge, of
+//! each face, then of the cell (see [`ReferenceNodes`]).
+//!
+//! ```
+//! use hocurve_nodes::{NodeFamily, ReferenceNodes, Shape};
+//! let tet = ReferenceNodes::new(Shape::Tet, 3, NodeFamily::Equispaced);
+//! assert_eq!(tet.len(), 20); // (p+1)(p+2)(p+3)/6
+//! assert_eq!(tet.points()[1], [1.0, 0.0, 0.0]);
+//! ```
+
+mod nodal_sets;
+mod reference;
+
+pub use nodal_sets::{NodeEntity, NodeFamily, ReferenceNodes};
+pub use reference::Shape;
+
+/// Errors of this crate.
+#[derive(Debug, thiserror::Error, PartialEq, Eq)]
+pub enum NodesError {
+    /// The order is outside what the nodal family supports.
+    #[error("order {order} is not supported for {family} nodes (supported: 1..={max})")]
+    UnsupportedOrder {
+        /// Requested order.
+        order: usize,
+        /// Family name.
+        family: &'static str,
+        /// Largest supported order.
+        max: usize,
+    },
+}

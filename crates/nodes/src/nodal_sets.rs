@@ -1,0 +1,401 @@
+//! Nodal sets of order p on the reference shapes, in hocurve's canonical local order.
+//!
+//! A nodal set is assembled entity by entity — vertices, the interior nodes of every local
+//! edge (from its first vertex to its second), of every local face (in the face's own
+//! frame: first vertex at the origin, second along ξ, last along η) and of the cell — from
+//! the 1D, triangle, quadrilateral, ... interior sets of one [`NodeFamily`]. Because every
+//! face of a 3D element carries exactly the 2D set of the same family, and every edge the 1D
+//! set, neighbouring elements agree on their shared nodes.
+//!
+//! Each node also carries its *lattice index*: the integer coordinates `p·ξ` of the node it
+//! corresponds to in the equispaced set. Every family lists its nodes in the same lattice
+//! order, so the node orderings of file formats (which are defined on the equispaced
+//! lattice) can be matched exactly, with integers.
+
+use crate::{NodesError, Shape};
+
+/// A family of nodal distributions.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Default)]
+pub enum NodeFamily {
+    /// Equally spaced nodes ξ = lattice / p. Fine up to p ≈ 5; interpolation degrades beyond.
+    #[default]
+    Equispaced,
+}
+
+impl NodeFamily {
+    /// Name as used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            NodeFamily::Equispaced => "equispaced",
+        }
+    }
+
+    /// Largest order this family provides.
+    pub fn max_order(self) -> usize {
+        match self {
+            NodeFamily::Equispaced => 20,
+        }
+    }
+
+    /// Checks that `order` is available in this family.
+    pub fn check_order(self, order: usize) -> Result<(), NodesError> {
+        if order == 0 || order > self.max_order() {
+            return Err(NodesError::UnsupportedOrder {
+                order,
+                family: self.name(),
+                max: self.max_order(),
+            });
+        }
+        Ok(())
+    }
+
+    /// Interior nodes of the `shape` (none on its boundary), in lattice order, each with its
+    /// lattice index. For `Line` these are the p − 1 interior points of [0, 1] in increasing
+    /// order.
+    pub fn interior_nodes(self, shape: Shape, order: usize) -> Vec<([f64; 3], [i64; 3])> {
+        let lattice = interior_lattice(shape, order as i64);
+        match self {
+            NodeFamily::Equispaced => {
+                let p = order as f64;
+                lattice
+                    .into_iter()
+                    .map(|l| ([l[0] as f64 / p, l[1] as f64 / p, l[2] as f64 / p], l))
+                    .collect()
+            }
+        }
+    }
+}
+
+impl std::fmt::Display for NodeFamily {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl std::str::FromStr for NodeFamily {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "equispaced" => Ok(NodeFamily::Equispaced),
+            _ => Err(format!("unknown node family '{s}' (expected: equispaced)")),
+        }
+    }
+}
+
+/// Lattice indices of the interior nodes of a shape, in the canonical lattice order:
+/// the last coordinate varies slowest.
+fn interior_lattice(shape: Shape, p: i64) -> Vec<[i64; 3]> {
+    let mut out = Vec::new();
+    match shape {
+        Shape::Line => out.extend((1..p).map(|i| [i, 0, 0])),
+        Shape::Tri => {
+            for j in 1..p {
+                for i in 1..p - j {
+                    out.push([i, j, 0]);
+                }
+            }
+        }
+        Shape::Quad => {
+            for j in 1..p {
+                for i in 1..p {
+                    out.push([i, j, 0]);
+                }
+            }
+        }
+        Shape::Tet => {
+            for k in 1..p {
+                for j in 1..p - k {
+                    for i in 1..p - j - k {
+                        out.push([i, j, k]);
+                    }
+                }
+            }
+        }
+        Shape::Hex => {
+            for k in 1..p {
+                for j in 1..p {
+                    for i in 1..p {
+                        out.push([i, j, k]);
+                    }
+                }
+            }
+        }
+        Shape::Prism => {
+            for k in 1..p {
+                for j in 1..p {
+                    for i in 1..p - j {
+                        out.push([i, j, k]);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Which topological entity of the reference element a node belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum NodeEntity {
+    /// A vertex (local vertex index).
+    Vertex(usize),
+    /// The `index`-th interior node of local edge `edge`.
+    Edge {
+        /// Local edge index.
+        edge: usize,
+        /// Position among the edge's interior nodes.
+        index: usize,
+    },
+    /// The `index`-th interior node of local face `face` (3D shapes only).
+    Face {
+        /// Local face index.
+        face: usize,
+        /// Position among the face's interior nodes.
+        index: usize,
+    },
+    /// The `index`-th interior node of the element itself.
+    Interior(usize),
+}
+
+/// The nodes of a complete order-p element of one shape and one family, in canonical order.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ReferenceNodes {
+    shape: Shape,
+    order: usize,
+    family: NodeFamily,
+    points: Vec<[f64; 3]>,
+    lattice: Vec<[i64; 3]>,
+    entities: Vec<NodeEntity>,
+}
+
+impl ReferenceNodes {
+    /// Builds the set. Panics only if `order` is 0 or above the family's maximum; use
+    /// [`ReferenceNodes::try_new`] for orders that come from a user.
+    pub fn new(shape: Shape, order: usize, family: NodeFamily) -> Self {
+        match Self::try_new(shape, order, family) {
+            Ok(set) => set,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
+    /// Builds the set, or says why the order is unavailable.
+    pub fn try_new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, NodesError> {
+        family.check_order(order)?;
+        let p = order as i64;
+        let vertices = shape.vertices();
+        let vertex_lattice: Vec<[i64; 3]> = vertices
+            .iter()
+            .map(|v| [v[0] as i64 * p, v[1] as i64 * p, v[2] as i64 * p])
+            .collect();
+        let mut set = ReferenceNodes {
+            shape,
+            order,
+            family,
+            points: Vec::with_capacity(shape.num_nodes(order)),
+            lattice: Vec::with_capacity(shape.num_nodes(order)),
+            entities: Vec::with_capacity(shape.num_nodes(order)),
+        };
+        for (i, v) in vertices.iter().enumerate() {
+            set.push(*v, vertex_lattice[i], NodeEntity::Vertex(i));
+        }
+        let line = family.interior_nodes(Shape::Line, order);
+        for (e, &[a, b]) in shape.edges().iter().enumerate() {
+            for (index, (t, l)) in line.iter().enumerate() {
+                let point = affine(vertices[a], &[(vertices[b], t[0])]);
+                let lat = lattice_combination(vertex_lattice[a], &[(vertex_lattice[b], l[0])], p);
+                set.push(point, lat, NodeEntity::Edge { edge: e, index });
+            }
+        }
+        for (f, face) in shape.faces().iter().enumerate() {
+            let face_shape = Shape::face_shape(face.len());
+            // The face frame: origin at its first vertex, ξ towards the second, η towards
+            // the last (for a triangle the third, for a quadrilateral the fourth).
+            let (o, a, b) = (face[0], face[1], face[face.len() - 1]);
+            for (index, (x, l)) in family.interior_nodes(face_shape, order).iter().enumerate() {
+                let point = affine(vertices[o], &[(vertices[a], x[0]), (vertices[b], x[1])]);
+                let lat = lattice_combination(
+                    vertex_lattice[o],
+                    &[(vertex_lattice[a], l[0]), (vertex_lattice[b], l[1])],
+                    p,
+                );
+                set.push(point, lat, NodeEntity::Face { face: f, index });
+            }
+        }
+        if shape.dim() > 1 {
+            for (index, (x, l)) in family.interior_nodes(shape, order).into_iter().enumerate() {
+                set.push(x, l, NodeEntity::Interior(index));
+            }
+        }
+        debug_assert_eq!(set.points.len(), shape.num_nodes(order));
+        Ok(set)
+    }
+
+    fn push(&mut self, point: [f64; 3], lattice: [i64; 3], entity: NodeEntity) {
+        self.points.push(point);
+        self.lattice.push(lattice);
+        self.entities.push(entity);
+    }
+
+    /// The shape.
+    pub fn shape(&self) -> Shape {
+        self.shape
+    }
+
+    /// The polynomial order p.
+    pub fn order(&self) -> usize {
+        self.order
+    }
+
+    /// The node family.
+    pub fn family(&self) -> NodeFamily {
+        self.family
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// Always false: every element has its vertices.
+    pub fn is_empty(&self) -> bool {
+        self.points.is_empty()
+    }
+
+    /// Reference coordinates ξ of the nodes, canonical order.
+    pub fn points(&self) -> &[[f64; 3]] {
+        &self.points
+    }
+
+    /// Lattice indices `p·ξ` of the corresponding equispaced nodes, canonical order.
+    pub fn lattice(&self) -> &[[i64; 3]] {
+        &self.lattice
+    }
+
+    /// The entity each node belongs to, canonical order.
+    pub fn entities(&self) -> &[NodeEntity] {
+        &self.entities
+    }
+
+    /// Index of the node with lattice index `l`, if any.
+    pub fn index_of_lattice(&self, l: [i64; 3]) -> Option<usize> {
+        self.lattice.iter().position(|&m| m == l)
+    }
+}
+
+/// `origin + Σ t_k (v_k − origin)`.
+fn affine(origin: [f64; 3], terms: &[([f64; 3], f64)]) -> [f64; 3] {
+    let mut x = origin;
+    for (v, t) in terms {
+        for d in 0..3 {
+            x[d] += t * (v[d] - origin[d]);
+        }
+    }
+    x
+}
+
+/// Lattice version of [`affine`]: `origin + Σ m_k (v_k − origin) / p`, exact in integers
+/// because vertex lattice coordinates are 0 or p.
+fn lattice_combination(origin: [i64; 3], terms: &[([i64; 3], i64)], p: i64) -> [i64; 3] {
+    let mut x = origin;
+    for (v, m) in terms {
+        for d in 0..3 {
+            x[d] += m * (v[d] - origin[d]) / p;
+        }
+    }
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn node_counts_match_complete_element_formulas() {
+        for shape in Shape::ALL {
+            for p in 1..=8 {
+                let set = ReferenceNodes::new(shape, p, NodeFamily::Equispaced);
+                assert_eq!(set.len(), shape.num_nodes(p), "{shape:?} p={p}");
+            }
+        }
+    }
+
+    #[test]
+    fn lattice_indices_are_the_equispaced_points_and_are_distinct() {
+        for shape in Shape::ALL {
+            for p in 1..=8 {
+                let set = ReferenceNodes::new(shape, p, NodeFamily::Equispaced);
+                let mut seen = std::collections::HashSet::new();
+                for (x, l) in set.points().iter().zip(set.lattice()) {
+                    for d in 0..3 {
+                        assert!(
+                            (x[d] * p as f64 - l[d] as f64).abs() < 1e-12,
+                            "{shape:?} p={p}"
+                        );
+                        assert!(l[d] >= 0 && l[d] <= p as i64);
+                    }
+                    assert!(seen.insert(*l), "{shape:?} p={p}: duplicate lattice {l:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn every_lattice_point_of_the_reference_element_is_present() {
+        // Counting argument: all points (i,j,k)/p inside the shape appear exactly once.
+        for shape in Shape::ALL {
+            for p in 1..=6i64 {
+                let set = ReferenceNodes::new(shape, p as usize, NodeFamily::Equispaced);
+                let inside = |i: i64, j: i64, k: i64| match shape {
+                    Shape::Line => j == 0 && k == 0,
+                    Shape::Tri => k == 0 && i + j <= p,
+                    Shape::Quad => k == 0,
+                    Shape::Tet => i + j + k <= p,
+                    Shape::Hex => true,
+                    Shape::Prism => i + j <= p,
+                };
+                let mut count = 0;
+                for k in 0..=p {
+                    for j in 0..=p {
+                        for i in 0..=p {
+                            if inside(i, j, k) {
+                                count += 1;
+                                assert!(set.index_of_lattice([i, j, k]).is_some());
+                            }
+                        }
+                    }
+                }
+                assert_eq!(count, set.len());
+            }
+        }
+    }
+
+    #[test]
+    fn entities_match_geometry() {
+        // Edge nodes lie on their edge's segment, face nodes on their face's plane.
+        let set = ReferenceNodes::new(Shape::Hex, 4, NodeFamily::Equispaced);
+        let v = Shape::Hex.vertices();
+        for (x, e) in set.points().iter().zip(set.entities()) {
+            match *e {
+                NodeEntity::Edge { edge, .. } => {
+                    let [a, b] = Shape::Hex.edges()[edge];
+                    let fixed: Vec<usize> = (0..3).filter(|&d| v[a][d] == v[b][d]).collect();
+                    for d in fixed {
+                        assert_eq!(x[d], v[a][d]);
+                    }
+                }
+                NodeEntity::Face { face, .. } => {
+                    let f = Shape::Hex.faces()[face];
+                    let d = (0..3).find(|&d| f.iter().all(|&i| v[i][d] == v[f[0]][d]));
+                    let d = d.expect("hex faces are axis-aligned");
+                    assert_eq!(x[d], v[f[0]][d]);
+                }
+                _ => {}
+            }
+        }
+    }
+
+    #[test]
+    fn unsupported_order_is_an_error() {
+        assert!(ReferenceNodes::try_new(Shape::Tri, 0, NodeFamily::Equispaced).is_err());
+        assert!(ReferenceNodes::try_new(Shape::Tri, 99, NodeFamily::Equispaced).is_err());
+    }
+}
