@@ -82,6 +82,7 @@ impl HighOrderMesh {
         family: NodeFamily,
     ) -> Result<Self, MeshError> {
         mesh.validate()?;
+        mesh.check_orientation()?;
         family.check_order(order)?;
         let topology = Topology::new(mesh)?;
         let p = order;

@@ -118,4 +118,184 @@ impl LinearMesh {
         }
         Ok(())
     }
+
+    /// Rejects inverted or degenerate cells: in 3D, a cell whose Jacobian determinant at
+    /// any vertex is not positive; in 2D (where a mesh may be numbered clockwise or
+    /// counter-clockwise in the xy-plane), a degenerate cell or one whose orientation
+    /// differs from the first cell's. At a vertex of every supported shape the Jacobian is
+    /// the determinant of the edge vectors leaving that vertex (relative to the reference
+    /// element's), so this is exact for straight-sided cells; it assumes [`Self::validate`]
+    /// passed.
+    pub fn check_orientation(&self) -> Result<(), MeshError> {
+        let mut reference_sign = 0.0;
+        for (c, cell) in self.cells.iter().enumerate() {
+            let shape = cell.kind.shape()?;
+            let physical: Vec<[f64; 3]> = cell
+                .vertices
+                .iter()
+                .map(|&v| self.vertices[v as usize])
+                .collect();
+            for (vertex, jacobian) in corner_jacobians(shape, &physical).into_iter().enumerate() {
+                let sign = if self.dim == 2 {
+                    if reference_sign == 0.0 {
+                        reference_sign = jacobian.signum();
+                    }
+                    reference_sign
+                } else {
+                    1.0
+                };
+                if !(jacobian * sign > 0.0) {
+                    return Err(MeshError::InvertedCell {
+                        index: c,
+                        vertex,
+                        jacobian,
+                    });
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Jacobian determinant of the straight map at each vertex, divided by the reference
+/// element's: the determinant of the edge vectors leaving the vertex (2D: the z component
+/// of their cross product).
+fn corner_jacobians(shape: hocurve_nodes::Shape, x: &[[f64; 3]]) -> Vec<f64> {
+    let reference = shape.vertices();
+    let edges = shape.edges();
+    let dim = shape.dim();
+    (0..reference.len())
+        .map(|v| {
+            let neighbours: Vec<usize> = edges
+                .iter()
+                .filter_map(|&[a, b]| match (a == v, b == v) {
+                    (true, _) => Some(b),
+                    (_, true) => Some(a),
+                    _ => None,
+                })
+                .collect();
+            let vectors = |pts: &[[f64; 3]]| -> Vec<[f64; 3]> {
+                neighbours
+                    .iter()
+                    .map(|&n| {
+                        [
+                            pts[n][0] - pts[v][0],
+                            pts[n][1] - pts[v][1],
+                            pts[n][2] - pts[v][2],
+                        ]
+                    })
+                    .collect()
+            };
+            let det = |e: &[[f64; 3]]| {
+                if dim == 2 {
+                    e[0][0] * e[1][1] - e[0][1] * e[1][0]
+                } else {
+                    e[0][0] * (e[1][1] * e[2][2] - e[1][2] * e[2][1])
+                        - e[0][1] * (e[1][0] * e[2][2] - e[1][2] * e[2][0])
+                        + e[0][2] * (e[1][0] * e[2][1] - e[1][1] * e[2][0])
+                }
+            };
+            det(&vectors(x)) / det(&vectors(reference))
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn one_cell(dim: usize, kind: ElementType, vertices: Vec<[f64; 3]>) -> LinearMesh {
+        LinearMesh {
+            dim,
+            cells: vec![Element {
+                kind,
+                vertices: (0..vertices.len() as u32).collect(),
+                entity: 1,
+            }],
+            vertices,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn corner_jacobians_are_volumes_of_unit_cells() {
+        use hocurve_nodes::Shape;
+        for shape in [
+            Shape::Tri,
+            Shape::Quad,
+            Shape::Tet,
+            Shape::Hex,
+            Shape::Prism,
+        ] {
+            // The reference element scaled by 2 in every direction: det J = 2^dim.
+            let x: Vec<[f64; 3]> = shape
+                .vertices()
+                .iter()
+                .map(|v| v.map(|c| 2.0 * c))
+                .collect();
+            for j in corner_jacobians(shape, &x) {
+                assert_eq!(j, (1 << shape.dim()) as f64, "{shape:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn inverted_tet_and_hex_are_rejected() {
+        let tet = vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ];
+        assert!(one_cell(3, ElementType::Tet, tet.clone())
+            .check_orientation()
+            .is_ok());
+        let mut inverted = tet;
+        inverted.swap(1, 2);
+        let err = one_cell(3, ElementType::Tet, inverted)
+            .check_orientation()
+            .unwrap_err();
+        assert!(err.to_string().contains("inverted"), "{err}");
+        // A hex with one top corner pushed below the bottom face.
+        let mut hex: Vec<[f64; 3]> = hocurve_nodes::Shape::Hex.vertices().to_vec();
+        hex[6] = [1.0, 1.0, -0.5];
+        let err = one_cell(3, ElementType::Hex, hex)
+            .check_orientation()
+            .unwrap_err();
+        assert!(
+            matches!(err, MeshError::InvertedCell { index: 0, .. }),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn two_d_meshes_must_be_consistently_oriented() {
+        let mut mesh = one_cell(
+            2,
+            ElementType::Tri,
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [1.0, 1.0, 0.0],
+            ],
+        );
+        mesh.cells.push(Element {
+            kind: ElementType::Tri,
+            vertices: vec![1, 3, 2],
+            entity: 1,
+        });
+        assert!(mesh.check_orientation().is_ok());
+        // Clockwise throughout is fine too.
+        for c in &mut mesh.cells {
+            c.vertices.swap(1, 2);
+        }
+        assert!(mesh.check_orientation().is_ok());
+        mesh.cells[1].vertices.swap(1, 2);
+        let err = mesh.check_orientation().unwrap_err();
+        assert!(
+            matches!(err, MeshError::InvertedCell { index: 1, .. }),
+            "{err}"
+        );
+    }
 }
