@@ -60,7 +60,13 @@ mod tests {
         assert!(r.is_err());
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "old");
         assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
-        write_atomically(&path, |w| w.write_all(b"new").map_err(|e| IoError::Os { path: path.clone(), source: e })).unwrap();
+        write_atomically(&path, |w| {
+            w.write_all(b"new").map_err(|e| IoError::Os {
+                path: path.clone(),
+                source: e,
+            })
+        })
+        .unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), "new");
     }
 }

@@ -280,6 +280,53 @@ impl HighOrderMesh {
         self.layout.num_vertices + self.layout.num_edges * (p - 1) + faces + cells
     }
 
+    /// The same mesh with its nodes moved to the reference positions of another `family`:
+    /// each cell's polynomial map x(ξ) = Σ Φⱼ(ξ) xⱼ is evaluated at the new family's nodes,
+    /// so the geometry is unchanged (exactly, up to rounding) and only the nodal
+    /// representation changes. Formats that assume equispaced nodes (VTK Lagrange cells,
+    /// Gmsh high-order elements) need `resampled(NodeFamily::Equispaced)`. Node numbering is
+    /// family-independent (lattice order), so only coordinates change; a node shared by
+    /// several cells is evaluated once, from the first cell that has it.
+    pub fn resampled(&self, family: NodeFamily) -> Result<HighOrderMesh, MeshError> {
+        family.check_order(self.order)?;
+        let mut out = self.clone();
+        out.family = family;
+        if family == self.family {
+            return Ok(out);
+        }
+        let mut done = vec![false; self.nodes.len()];
+        let mut matrices: HashMap<Shape, hocurve_nodes::LagrangeBasis> = HashMap::new();
+        let mut targets: HashMap<Shape, Vec<[f64; 3]>> = HashMap::new();
+        let mut values = Vec::new();
+        for cell in &self.cells {
+            let shape = cell.kind.shape()?;
+            if let std::collections::hash_map::Entry::Vacant(slot) = matrices.entry(shape) {
+                let from = ReferenceNodes::try_new(shape, self.order, self.family)?;
+                slot.insert(hocurve_nodes::LagrangeBasis::new(&from)?);
+                let to = ReferenceNodes::try_new(shape, self.order, family)?;
+                targets.insert(shape, to.points().to_vec());
+            }
+            let basis = &matrices[&shape];
+            values.resize(basis.len(), 0.0);
+            for (k, xi) in targets[&shape].iter().enumerate() {
+                let id = cell.nodes[k] as usize;
+                if done[id] {
+                    continue;
+                }
+                basis.eval(*xi, &mut values);
+                let mut x = [0.0; 3];
+                for (phi, &j) in values.iter().zip(&cell.nodes) {
+                    for d in 0..3 {
+                        x[d] += phi * self.nodes[j as usize][d];
+                    }
+                }
+                out.nodes[id] = x;
+                done[id] = true;
+            }
+        }
+        Ok(out)
+    }
+
     /// The physical tags of an element of dimension `dim` on entity `entity`.
     pub fn physical_tags(&self, dim: usize, entity: i32) -> &[i32] {
         self.entity_physicals
@@ -595,6 +642,55 @@ mod tests {
             (ElementType::Tri, vec![1, 4, 2]),
         ];
         check_sharing(2, &vertices, &cells, 20);
+    }
+
+    #[test]
+    fn resampling_between_families_keeps_straight_cells_straight() {
+        // A distorted hex and a tet: the straight map is reproduced by every family, so
+        // resampling to another family equals building that family directly.
+        let mesh = LinearMesh {
+            dim: 3,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.2, 0.0, 0.1],
+                [1.0, 1.1, 0.0],
+                [0.0, 1.0, 0.2],
+                [0.1, 0.0, 1.0],
+                [1.0, 0.2, 1.1],
+                [1.1, 1.0, 1.0],
+                [0.0, 1.0, 0.9],
+                [0.5, 0.5, -1.0],
+            ],
+            cells: vec![
+                Element {
+                    kind: ElementType::Hex,
+                    vertices: (0..8).collect(),
+                    entity: 1,
+                },
+                Element {
+                    kind: ElementType::Tet,
+                    vertices: vec![0, 2, 1, 8],
+                    entity: 1,
+                },
+            ],
+            ..Default::default()
+        };
+        for p in 1..=5 {
+            for from in NodeFamily::ALL {
+                let a = HighOrderMesh::from_linear(&mesh, p, from).unwrap();
+                for to in NodeFamily::ALL {
+                    let b = a.resampled(to).unwrap();
+                    let direct = HighOrderMesh::from_linear(&mesh, p, to).unwrap();
+                    assert_eq!(b.family, to);
+                    for (x, y) in b.nodes.iter().zip(&direct.nodes) {
+                        assert!(
+                            (0..3).all(|d| (x[d] - y[d]).abs() < 1e-12),
+                            "{from}->{to} p={p}"
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -144,7 +144,7 @@ impl LinearMesh {
                 } else {
                     1.0
                 };
-                if !(jacobian * sign > 0.0) {
+                if jacobian * sign <= 0.0 || jacobian.is_nan() {
                     return Err(MeshError::InvertedCell {
                         index: c,
                         vertex,

@@ -14,10 +14,23 @@
 //! assert_eq!(tet.points()[1], [1.0, 0.0, 0.0]);
 //! ```
 
+mod basis;
+mod fekete;
+mod gauss;
+mod lagrange;
 mod nodal_sets;
+mod quadrature;
 mod reference;
+mod warp_blend;
 
+pub use basis::{OrthonormalBasis, MAX_BASIS_ORDER};
+pub use gauss::{
+    gauss_jacobi, gauss_legendre, gauss_lobatto_legendre, jacobi, jacobi_derivative,
+    jacobi_weight_integral, Rule1D,
+};
+pub use lagrange::LagrangeBasis;
 pub use nodal_sets::{NodeEntity, NodeFamily, ReferenceNodes};
+pub use quadrature::QuadratureRule;
 pub use reference::Shape;
 
 /// Errors of this crate.
@@ -32,5 +45,19 @@ pub enum NodesError {
         family: &'static str,
         /// Largest supported order.
         max: usize,
+    },
+    /// The generalised Vandermonde matrix of a nodal set is (numerically) singular: the nodes
+    /// are not unisolvent for the polynomial space, so no Lagrange basis exists on them.
+    #[error(
+        "the Vandermonde matrix of the order-{order} {family} nodes on the {} is singular",
+        .shape.name()
+    )]
+    SingularVandermonde {
+        /// Reference shape.
+        shape: Shape,
+        /// Polynomial order.
+        order: usize,
+        /// Node family.
+        family: NodeFamily,
     },
 }

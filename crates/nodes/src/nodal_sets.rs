@@ -12,6 +12,10 @@
 //! order, so the node orderings of file formats (which are defined on the equispaced
 //! lattice) can be matched exactly, with integers.
 
+use crate::fekete::fekete_interior;
+use crate::warp_blend::{
+    blyth_pozrikidis_tet, blyth_pozrikidis_triangle, gll_unit, warp_blend_tet, warp_blend_triangle,
+};
 use crate::{NodesError, Shape};
 
 /// A family of nodal distributions.
@@ -20,6 +24,15 @@ pub enum NodeFamily {
     /// Equally spaced nodes ξ = lattice / p. Fine up to p ≈ 5; interpolation degrades beyond.
     #[default]
     Equispaced,
+    /// Gauss–Lobatto–Legendre points on every edge and tensor GLL on quadrilaterals and
+    /// hexahedra; inside simplices the Blyth–Pozrikidis formula built from them.
+    GaussLobatto,
+    /// Warburton's warp & blend nodes on simplices (GLL on edges), tensor GLL elsewhere.
+    WarpBlend,
+    /// Fekete points: on triangles and tetrahedra the interior nodes maximising the
+    /// Vandermonde determinant with GLL edges (and Fekete triangle faces); on quadrilaterals
+    /// and hexahedra tensor GLL, which are their Fekete points.
+    Fekete,
 }
 
 impl NodeFamily {
@@ -27,13 +40,25 @@ impl NodeFamily {
     pub fn name(self) -> &'static str {
         match self {
             NodeFamily::Equispaced => "equispaced",
+            NodeFamily::GaussLobatto => "gll",
+            NodeFamily::WarpBlend => "warp-blend",
+            NodeFamily::Fekete => "fekete",
         }
     }
+
+    /// All families.
+    pub const ALL: [NodeFamily; 4] = [
+        NodeFamily::Equispaced,
+        NodeFamily::GaussLobatto,
+        NodeFamily::WarpBlend,
+        NodeFamily::Fekete,
+    ];
 
     /// Largest order this family provides.
     pub fn max_order(self) -> usize {
         match self {
-            NodeFamily::Equispaced => 20,
+            NodeFamily::Equispaced | NodeFamily::GaussLobatto | NodeFamily::WarpBlend => 20,
+            NodeFamily::Fekete => 10,
         }
     }
 
@@ -54,15 +79,60 @@ impl NodeFamily {
     /// order.
     pub fn interior_nodes(self, shape: Shape, order: usize) -> Vec<([f64; 3], [i64; 3])> {
         let lattice = interior_lattice(shape, order as i64);
-        match self {
-            NodeFamily::Equispaced => {
-                let p = order as f64;
-                lattice
-                    .into_iter()
-                    .map(|l| ([l[0] as f64 / p, l[1] as f64 / p, l[2] as f64 / p], l))
-                    .collect()
-            }
+        let p = order;
+        if self == NodeFamily::Equispaced {
+            let pf = p as f64;
+            return lattice
+                .into_iter()
+                .map(|l| ([l[0] as f64 / pf, l[1] as f64 / pf, l[2] as f64 / pf], l))
+                .collect();
         }
+        if self == NodeFamily::Fekete && matches!(shape, Shape::Tri | Shape::Tet) {
+            return fekete_interior(shape, p).as_ref().clone();
+        }
+        // Every other family has GLL points on lines and tensor products of them.
+        let gll = gll_unit(p);
+        let fekete_tri = if self == NodeFamily::Fekete && shape == Shape::Prism {
+            Some(fekete_interior(Shape::Tri, p))
+        } else {
+            None
+        };
+        let tri = |l: [i64; 3]| -> [f64; 2] {
+            if let Some(f) = &fekete_tri {
+                // The prism's triangle layer: the Fekete triangle interior with this lattice.
+                if let Some((x, _)) = f.iter().find(|(_, m)| m[..2] == l[..2]) {
+                    return [x[0], x[1]];
+                }
+            }
+            match self {
+                NodeFamily::GaussLobatto => blyth_pozrikidis_triangle(p, [l[0], l[1]]),
+                _ => warp_blend_triangle(p, [l[0], l[1]]),
+            }
+        };
+        lattice
+            .into_iter()
+            .map(|l| {
+                let g = |i: i64| gll[i as usize];
+                let x = match shape {
+                    Shape::Line => [g(l[0]), 0.0, 0.0],
+                    Shape::Quad => [g(l[0]), g(l[1]), 0.0],
+                    Shape::Hex => [g(l[0]), g(l[1]), g(l[2])],
+                    Shape::Tri => {
+                        let [x, y] = tri(l);
+                        [x, y, 0.0]
+                    }
+                    Shape::Prism => {
+                        let [x, y] = tri(l);
+                        [x, y, g(l[2])]
+                    }
+                    Shape::Tet => match self {
+                        NodeFamily::GaussLobatto => blyth_pozrikidis_tet(p, l),
+                        _ => warp_blend_tet(p, l),
+                    },
+                };
+                (x, l)
+            })
+            .collect()
     }
 }
 
@@ -75,10 +145,16 @@ impl std::fmt::Display for NodeFamily {
 impl std::str::FromStr for NodeFamily {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, Self::Err> {
-        match s {
-            "equispaced" => Ok(NodeFamily::Equispaced),
-            _ => Err(format!("unknown node family '{s}' (expected: equispaced)")),
-        }
+        NodeFamily::ALL
+            .into_iter()
+            .find(|f| f.name() == s)
+            .ok_or_else(|| {
+                let names: Vec<&str> = NodeFamily::ALL.iter().map(|f| f.name()).collect();
+                format!(
+                    "unknown node family '{s}' (expected one of: {})",
+                    names.join(", ")
+                )
+            })
     }
 }
 
@@ -162,7 +238,7 @@ pub struct ReferenceNodes {
     shape: Shape,
     order: usize,
     family: NodeFamily,
-    points: Vec<[f64; 3]>,
+    pub(crate) points: Vec<[f64; 3]>,
     lattice: Vec<[i64; 3]>,
     entities: Vec<NodeEntity>,
 }
@@ -180,6 +256,22 @@ impl ReferenceNodes {
     /// Builds the set, or says why the order is unavailable.
     pub fn try_new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, NodesError> {
         family.check_order(order)?;
+        let interior = if shape.dim() > 1 {
+            family.interior_nodes(shape, order)
+        } else {
+            Vec::new()
+        };
+        Ok(Self::assemble(shape, order, family, interior))
+    }
+
+    /// Assembles the set from the family's edge and face sets and the given cell-interior
+    /// nodes (lattice order).
+    pub(crate) fn assemble(
+        shape: Shape,
+        order: usize,
+        family: NodeFamily,
+        interior: Vec<([f64; 3], [i64; 3])>,
+    ) -> Self {
         let p = order as i64;
         let vertices = shape.vertices();
         let vertex_lattice: Vec<[i64; 3]> = vertices
@@ -220,13 +312,11 @@ impl ReferenceNodes {
                 set.push(point, lat, NodeEntity::Face { face: f, index });
             }
         }
-        if shape.dim() > 1 {
-            for (index, (x, l)) in family.interior_nodes(shape, order).into_iter().enumerate() {
-                set.push(x, l, NodeEntity::Interior(index));
-            }
+        for (index, (x, l)) in interior.into_iter().enumerate() {
+            set.push(x, l, NodeEntity::Interior(index));
         }
         debug_assert_eq!(set.points.len(), shape.num_nodes(order));
-        Ok(set)
+        set
     }
 
     fn push(&mut self, point: [f64; 3], lattice: [i64; 3], entity: NodeEntity) {

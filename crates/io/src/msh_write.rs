@@ -1,0 +1,449 @@
+//! Gmsh MSH 4.1 ASCII writer for high-order meshes.
+//!
+//! Elements are Gmsh's complete order-p elements (`MSH_TRI_10`, `MSH_TET_35`,
+//! `MSH_HEX_125`, …), their nodes in Gmsh's order (see [`crate::ordering`]); the declared
+//! facets are written too, at the same order, on their own entities. What is written:
+//! - `$PhysicalNames`: the physical groups that have a name (unnamed groups live on in the
+//!   entities' physical tags);
+//! - `$Entities`: one curve/surface/volume per distinct (dimension, entity tag) of the cells
+//!   and facets, with its physical tags and the bounding box of its elements' nodes, no
+//!   bounding entities;
+//! - `$Nodes`: node tags 1..N in the mesh's node order, in that order in the file; each node
+//!   is classified on the lowest-dimensional entity (then smallest tag) among those whose
+//!   elements use it, as Gmsh itself classifies boundary nodes on the boundary surface; a
+//!   block per run of consecutive nodes on the same entity (an entity may have several);
+//! - `$Elements`: facets then cells, in their order in the mesh, one block per run of
+//!   consecutive elements with the same entity and type; element tags 1, 2, ….
+//!
+//! Coordinates are written in Rust's shortest round-trip form (`{:?}`), so reading the file
+//! back gives bitwise the same values. Same input, same bytes.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::Path;
+
+use hocurve_mesh::{HighOrderElement, HighOrderMesh};
+use hocurve_nodes::Shape;
+
+use crate::atomic::write_atomically;
+use crate::ordering::{gmsh_element_type, gmsh_max_order, gmsh_permutation};
+use crate::IoError;
+
+/// Writes `mesh` to `path` as a Gmsh MSH 4.1 ASCII file with complete order-p elements.
+///
+/// Fails before touching the file when an element has no Gmsh type at the mesh's order
+/// (Gmsh's complete elements stop at order 10 for lines, triangles, quadrilaterals and
+/// tetrahedra, 9 for hexahedra and prisms), when an element's node count or node ids are
+/// inconsistent, when a coordinate is not finite or a physical name cannot be quoted.
+pub fn write_msh(path: &Path, mesh: &HighOrderMesh) -> Result<(), IoError> {
+    let bad = |message: String| IoError::Unsupported {
+        path: path.to_path_buf(),
+        message,
+    };
+    let plan = Plan::new(mesh).map_err(bad)?;
+    write_atomically(path, |w| {
+        plan.write(w, mesh).map_err(|source| IoError::Os {
+            path: path.to_path_buf(),
+            source,
+        })
+    })
+}
+
+/// An element list (facets or cells) with its dimension.
+struct Group<'a> {
+    dim: usize,
+    elements: &'a [HighOrderElement],
+    shapes: Vec<Shape>,
+}
+
+/// Everything decided before writing.
+struct Plan<'a> {
+    groups: Vec<Group<'a>>,
+    /// Entities sorted by (dim, tag), with their bounding boxes.
+    entities: Vec<((usize, i32), [f64; 6])>,
+    /// Entity index (into `entities`) each node is classified on.
+    node_entity: Vec<usize>,
+    /// Gmsh type and permutation (Gmsh order → canonical) per shape.
+    types: BTreeMap<Shape, (i32, Vec<usize>)>,
+}
+
+impl<'a> Plan<'a> {
+    fn new(mesh: &'a HighOrderMesh) -> Result<Self, String> {
+        let p = mesh.order;
+        if mesh.dim != 2 && mesh.dim != 3 {
+            return Err(format!("mesh dimension {} (expected 2 or 3)", mesh.dim));
+        }
+        if mesh.cells.is_empty() {
+            return Err("the mesh has no cells".into());
+        }
+        if let Some(i) = mesh
+            .nodes
+            .iter()
+            .position(|x| x.iter().any(|c| !c.is_finite()))
+        {
+            return Err(format!(
+                "node {i} has a non-finite coordinate {:?}",
+                mesh.nodes[i]
+            ));
+        }
+        for g in &mesh.physical_groups {
+            if g.name.contains('"') || g.name.contains('\n') || g.name.contains('\r') {
+                return Err(format!(
+                    "physical group {} ({}D) has a name with a quote or line break, which MSH cannot store: {:?}",
+                    g.tag, g.dim, g.name
+                ));
+            }
+        }
+        let mut groups = Vec::new();
+        let mut types = BTreeMap::new();
+        for (what, dim, elements) in [
+            ("facet", mesh.dim - 1, &mesh.facets),
+            ("cell", mesh.dim, &mesh.cells),
+        ] {
+            let mut shapes = Vec::with_capacity(elements.len());
+            for (i, e) in elements.iter().enumerate() {
+                let shape = e.kind.shape().map_err(|err| format!("{what} {i}: {err}"))?;
+                if shape.dim() != dim {
+                    return Err(format!(
+                        "{what} {i} is a {}, expected dimension {dim}",
+                        shape.name()
+                    ));
+                }
+                if e.nodes.len() != shape.num_nodes(p) {
+                    return Err(format!(
+                        "{what} {i} ({}) has {} nodes, expected {} at order {p}",
+                        shape.name(),
+                        e.nodes.len(),
+                        shape.num_nodes(p)
+                    ));
+                }
+                if let Some(&n) = e.nodes.iter().find(|&&n| n as usize >= mesh.nodes.len()) {
+                    return Err(format!(
+                        "{what} {i} references node {n}, but the mesh has {} nodes",
+                        mesh.nodes.len()
+                    ));
+                }
+                if let std::collections::btree_map::Entry::Vacant(slot) = types.entry(shape) {
+                    let t = gmsh_element_type(shape, p).ok_or_else(|| {
+                        format!(
+                            "Gmsh has no order-{p} {} element (its complete {} elements go up to order {})",
+                            shape.name(),
+                            shape.name(),
+                            gmsh_max_order(shape)
+                        )
+                    })?;
+                    slot.insert((t, gmsh_permutation(shape, p)));
+                }
+                shapes.push(shape);
+            }
+            groups.push(Group {
+                dim,
+                elements,
+                shapes,
+            });
+        }
+
+        // Entities and their bounding boxes.
+        let empty = [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        let mut boxes: BTreeMap<(usize, i32), [f64; 6]> = BTreeMap::new();
+        for g in &groups {
+            for e in g.elements {
+                let b = boxes.entry((g.dim, e.entity)).or_insert(empty);
+                for &n in &e.nodes {
+                    let x = mesh.nodes[n as usize];
+                    for d in 0..3 {
+                        b[d] = b[d].min(x[d]);
+                        b[d + 3] = b[d + 3].max(x[d]);
+                    }
+                }
+            }
+        }
+        let entities: Vec<((usize, i32), [f64; 6])> = boxes.into_iter().collect();
+        let index: BTreeMap<(usize, i32), usize> = entities
+            .iter()
+            .enumerate()
+            .map(|(i, (k, _))| (*k, i))
+            .collect();
+
+        // Classification: the smallest entity index (lowest dimension, then tag) using it.
+        let mut node_entity = vec![usize::MAX; mesh.nodes.len()];
+        for g in &groups {
+            for e in g.elements {
+                let k = index[&(g.dim, e.entity)];
+                for &n in &e.nodes {
+                    let slot = &mut node_entity[n as usize];
+                    *slot = (*slot).min(k);
+                }
+            }
+        }
+        // Nodes no element uses (none in a mesh built by hocurve) go to the first cell entity.
+        let fallback = entities
+            .iter()
+            .position(|((d, _), _)| *d == mesh.dim)
+            .unwrap_or(0);
+        for slot in &mut node_entity {
+            if *slot == usize::MAX {
+                *slot = fallback;
+            }
+        }
+        Ok(Plan {
+            groups,
+            entities,
+            node_entity,
+            types,
+        })
+    }
+
+    fn write<W: Write>(&self, w: &mut W, mesh: &HighOrderMesh) -> std::io::Result<()> {
+        writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
+
+        let named: Vec<_> = mesh
+            .physical_groups
+            .iter()
+            .filter(|g| !g.name.is_empty())
+            .collect();
+        if !named.is_empty() {
+            writeln!(w, "$PhysicalNames\n{}", named.len())?;
+            for g in named {
+                writeln!(w, "{} {} \"{}\"", g.dim, g.tag, g.name)?;
+            }
+            writeln!(w, "$EndPhysicalNames")?;
+        }
+
+        writeln!(w, "$Entities")?;
+        let count = |d: usize| self.entities.iter().filter(|((e, _), _)| *e == d).count();
+        writeln!(w, "0 {} {} {}", count(1), count(2), count(3))?;
+        for ((dim, tag), b) in &self.entities {
+            write!(w, "{tag}")?;
+            for v in b {
+                write!(w, " {v:?}")?;
+            }
+            let physicals = mesh.physical_tags(*dim, *tag);
+            write!(w, " {}", physicals.len())?;
+            for t in physicals {
+                write!(w, " {t}")?;
+            }
+            writeln!(w, " 0")?;
+        }
+        writeln!(w, "$EndEntities")?;
+
+        writeln!(w, "$Nodes")?;
+        // Blocks are runs of consecutive nodes classified on the same entity, so that node
+        // tags 1..N appear in increasing order (readers that number nodes by appearance get
+        // the mesh's own numbering back); an entity may own several blocks.
+        let mut runs = Vec::new();
+        let mut start = 0;
+        for i in 1..=self.node_entity.len() {
+            if i == self.node_entity.len() || self.node_entity[i] != self.node_entity[start] {
+                runs.push((start, i));
+                start = i;
+            }
+        }
+        let n = mesh.nodes.len();
+        writeln!(w, "{} {n} {} {n}", runs.len(), n.min(1))?;
+        for (start, end) in runs {
+            let ((dim, tag), _) = self.entities[self.node_entity[start]];
+            writeln!(w, "{dim} {tag} 0 {}", end - start)?;
+            for i in start..end {
+                writeln!(w, "{}", i + 1)?;
+            }
+            for x in &mesh.nodes[start..end] {
+                writeln!(w, "{:?} {:?} {:?}", x[0], x[1], x[2])?;
+            }
+        }
+        writeln!(w, "$EndNodes")?;
+
+        writeln!(w, "$Elements")?;
+        // Runs of consecutive elements with the same (entity, shape).
+        let mut runs = Vec::new();
+        for (g, group) in self.groups.iter().enumerate() {
+            let mut start = 0;
+            for i in 1..=group.elements.len() {
+                let split = i == group.elements.len()
+                    || group.elements[i].entity != group.elements[start].entity
+                    || group.shapes[i] != group.shapes[start];
+                if split {
+                    runs.push((g, start, i));
+                    start = i;
+                }
+            }
+        }
+        let total: usize = self.groups.iter().map(|g| g.elements.len()).sum();
+        writeln!(w, "{} {total} {} {total}", runs.len(), total.min(1))?;
+        let mut tag = 0usize;
+        for (g, start, end) in runs {
+            let group = &self.groups[g];
+            let shape = group.shapes[start];
+            let (gmsh_type, perm) = &self.types[&shape];
+            let entity = group.elements[start].entity;
+            writeln!(w, "{} {entity} {gmsh_type} {}", group.dim, end - start)?;
+            for e in &group.elements[start..end] {
+                tag += 1;
+                write!(w, "{tag}")?;
+                for &k in perm {
+                    write!(w, " {}", e.nodes[k] as usize + 1)?;
+                }
+                writeln!(w)?;
+            }
+        }
+        writeln!(w, "$EndElements")?;
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_mesh::{Element, ElementType, LinearMesh, PhysicalGroup};
+    use hocurve_nodes::NodeFamily;
+
+    fn square() -> LinearMesh {
+        let mut mesh = LinearMesh {
+            dim: 2,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.7, 0.1, 0.0],
+            ],
+            cells: vec![
+                Element {
+                    kind: ElementType::Tri,
+                    vertices: vec![0, 1, 4],
+                    entity: 1,
+                },
+                Element {
+                    kind: ElementType::Tri,
+                    vertices: vec![1, 2, 4],
+                    entity: 1,
+                },
+                Element {
+                    kind: ElementType::Quad,
+                    vertices: vec![0, 4, 2, 3],
+                    entity: 2,
+                },
+            ],
+            facets: vec![
+                Element {
+                    kind: ElementType::Line,
+                    vertices: vec![0, 1],
+                    entity: 5,
+                },
+                Element {
+                    kind: ElementType::Line,
+                    vertices: vec![2, 3],
+                    entity: 6,
+                },
+            ],
+            physical_groups: vec![
+                PhysicalGroup {
+                    dim: 1,
+                    tag: 10,
+                    name: "bottom".into(),
+                },
+                PhysicalGroup {
+                    dim: 2,
+                    tag: 1,
+                    name: "domain".into(),
+                },
+            ],
+            ..Default::default()
+        };
+        mesh.entity_physicals.insert((1, 5), vec![10]);
+        mesh.entity_physicals.insert((2, 1), vec![1]);
+        mesh.entity_physicals.insert((2, 2), vec![1]);
+        mesh
+    }
+
+    #[test]
+    fn linear_mesh_is_written_as_expected() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.msh");
+        let ho = HighOrderMesh::from_linear(&square(), 1, NodeFamily::Equispaced).unwrap();
+        write_msh(&path, &ho).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let expected = "$MeshFormat
+4.1 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+1 10 \"bottom\"
+2 1 \"domain\"
+$EndPhysicalNames
+$Entities
+0 2 2 0
+5 0.0 0.0 0.0 1.0 0.0 0.0 1 10 0
+6 0.0 1.0 0.0 1.0 1.0 0.0 0 0
+1 0.0 0.0 0.0 1.0 1.0 0.0 1 1 0
+2 0.0 0.0 0.0 1.0 1.0 0.0 1 1 0
+$EndEntities
+$Nodes
+3 5 1 5
+1 5 0 2
+1
+2
+0.0 0.0 0.0
+1.0 0.0 0.0
+1 6 0 2
+3
+4
+1.0 1.0 0.0
+0.0 1.0 0.0
+2 1 0 1
+5
+0.7 0.1 0.0
+$EndNodes
+$Elements
+4 5 1 5
+1 5 1 1
+1 1 2
+1 6 1 1
+2 3 4
+2 1 2 2
+3 1 2 5
+4 2 3 5
+2 2 3 1
+5 1 5 3 4
+$EndElements
+";
+        assert_eq!(text, expected);
+    }
+
+    #[test]
+    fn orders_without_a_gmsh_type_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.msh");
+        let ho = HighOrderMesh::from_linear(&square(), 11, NodeFamily::Equispaced).unwrap();
+        let err = write_msh(&path, &ho).unwrap_err().to_string();
+        assert!(err.contains("Gmsh has no order-11"), "{err}");
+        assert!(!path.exists());
+    }
+
+    #[test]
+    fn high_order_elements_use_gmsh_types_and_order() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("m.msh");
+        let ho = HighOrderMesh::from_linear(&square(), 3, NodeFamily::Equispaced).unwrap();
+        write_msh(&path, &ho).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        // Line 4 (26) facets, triangle 10 (21) and quadrilateral 16 (36) cells.
+        assert!(text.contains("\n1 5 26 1\n"), "{text}");
+        assert!(text.contains("\n2 1 21 2\n"), "{text}");
+        assert!(text.contains("\n2 2 36 1\n"), "{text}");
+        // Every element's node list, mapped back through the permutation, is the cell's.
+        let perm = gmsh_permutation(Shape::Tri, 3);
+        let first = &ho.cells[0];
+        let line: Vec<String> = std::iter::once("3".to_string())
+            .chain(perm.iter().map(|&k| (first.nodes[k] + 1).to_string()))
+            .collect();
+        assert!(text.contains(&format!("\n{}\n", line.join(" "))), "{text}");
+    }
+}

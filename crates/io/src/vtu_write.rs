@@ -1,0 +1,608 @@
+//! VTK XML unstructured grid (`.vtu`) writer for high-order meshes.
+//!
+//! Cells are written as VTK's linear cells at order 1 (`VTK_TRIANGLE` 5, `VTK_QUAD` 9,
+//! `VTK_TETRA` 10, `VTK_HEXAHEDRON` 12, `VTK_WEDGE` 13) and as Lagrange cells above
+//! (`VTK_LAGRANGE_TRIANGLE` 69 … `VTK_LAGRANGE_WEDGE` 73), their points in VTK's order (see
+//! [`crate::ordering::vtk_lattice`]). Only the cells are written, not the facets. Complete
+//! Lagrange cells of uniform order need no `HigherOrderDegrees` array: VTK derives the order
+//! from the number of points.
+//!
+//! The file declares `version="2.2"`: VTK's reader renumbers Lagrange hexahedra of files
+//! older than 2.1 (their last two vertical edges were swapped), and the orderings here are
+//! the ones of 2.1 and later.
+//!
+//! # Why hand-written
+//! The `vtkio` crate only writes XML files with its `xml` feature (quick-xml + serde), i.e.
+//! not under `default-features = false`; it builds an owned copy of every array first (peak
+//! memory ×2 on big meshes) and formats ASCII floats with `Display`, which is neither
+//! compact nor under our control for golden files. The format itself is small: this writer
+//! streams the arrays straight to the file, formats ASCII floats as Rust's shortest
+//! round-trip representation (`{:?}`: exact, deterministic, platform independent), and
+//! encodes binary arrays as inline base64 (uncompressed, little endian, `UInt64` size
+//! headers), which every VTK ≥ 5 reader accepts. Same input, same bytes.
+
+use std::collections::HashMap;
+use std::io::Write;
+use std::path::Path;
+
+use hocurve_mesh::HighOrderMesh;
+use hocurve_nodes::Shape;
+
+use crate::atomic::write_atomically;
+use crate::ordering::{vtk_cell_type, vtk_permutation};
+use crate::IoError;
+
+/// A named array of point or cell data: `components` values per point (cell), interleaved.
+#[derive(Debug, Clone, Copy)]
+pub struct DataArray<'a> {
+    /// Array name shown in ParaView.
+    pub name: &'a str,
+    /// Values per point or cell (1 for a scalar, 3 for a vector).
+    pub components: usize,
+    /// `components × count` values, point (cell) after point (cell).
+    pub values: &'a [f64],
+}
+
+/// How the arrays of a `.vtu` file are stored.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VtuEncoding {
+    /// Decimal text, one point, cell or tuple per line; floats in shortest round-trip form.
+    /// Larger and slower, but readable and diff-able (golden files).
+    Ascii,
+    /// Raw little-endian bytes, base64-encoded inline. Compact and exact.
+    #[default]
+    Base64,
+}
+
+/// Writes `mesh` to `path` as a VTK XML unstructured grid, arrays in base64.
+pub fn write_vtu(
+    path: &Path,
+    mesh: &HighOrderMesh,
+    point_data: &[DataArray],
+    cell_data: &[DataArray],
+) -> Result<(), IoError> {
+    write_vtu_with(path, mesh, point_data, cell_data, VtuEncoding::Base64)
+}
+
+/// Writes `mesh` to `path` as a VTK XML unstructured grid with the given encoding.
+///
+/// Checks everything before the file is touched: each point-data array must hold
+/// `components × mesh.nodes.len()` values, each cell-data array `components ×
+/// mesh.cells.len()`, names must be non-empty and distinct, values and coordinates finite;
+/// every cell must have the node count of its shape at the mesh's order and node ids within
+/// `mesh.nodes`. The file is written atomically (a failed write leaves no partial file).
+pub fn write_vtu_with(
+    path: &Path,
+    mesh: &HighOrderMesh,
+    point_data: &[DataArray],
+    cell_data: &[DataArray],
+    encoding: VtuEncoding,
+) -> Result<(), IoError> {
+    let bad = |message: String| IoError::Unsupported {
+        path: path.to_path_buf(),
+        message,
+    };
+    let cells = check_mesh(mesh).map_err(bad)?;
+    check_arrays("point", point_data, mesh.nodes.len()).map_err(bad)?;
+    check_arrays("cell", cell_data, mesh.cells.len()).map_err(bad)?;
+    write_atomically(path, |w| {
+        write_document(w, mesh, &cells, point_data, cell_data, encoding).map_err(|source| {
+            IoError::Os {
+                path: path.to_path_buf(),
+                source,
+            }
+        })
+    })
+}
+
+/// Per cell: its shape. Fails on anything a reader would choke on.
+fn check_mesh(mesh: &HighOrderMesh) -> Result<Vec<Shape>, String> {
+    if mesh.order == 0 {
+        return Err("mesh order 0".into());
+    }
+    if let Some(i) = mesh
+        .nodes
+        .iter()
+        .position(|x| x.iter().any(|c| !c.is_finite()))
+    {
+        return Err(format!(
+            "node {i} has a non-finite coordinate {:?}",
+            mesh.nodes[i]
+        ));
+    }
+    let mut shapes = Vec::with_capacity(mesh.cells.len());
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        let shape = cell.kind.shape().map_err(|e| format!("cell {c}: {e}"))?;
+        let expected = shape.num_nodes(mesh.order);
+        if cell.nodes.len() != expected {
+            return Err(format!(
+                "cell {c} ({}) has {} nodes, expected {expected} at order {}",
+                shape.name(),
+                cell.nodes.len(),
+                mesh.order
+            ));
+        }
+        if let Some(&n) = cell.nodes.iter().find(|&&n| n as usize >= mesh.nodes.len()) {
+            return Err(format!(
+                "cell {c} references node {n}, but the mesh has {} nodes",
+                mesh.nodes.len()
+            ));
+        }
+        shapes.push(shape);
+    }
+    Ok(shapes)
+}
+
+fn check_arrays(kind: &str, arrays: &[DataArray], count: usize) -> Result<(), String> {
+    for (i, a) in arrays.iter().enumerate() {
+        if a.name.is_empty() {
+            return Err(format!("{kind} data array {i} has an empty name"));
+        }
+        if arrays[..i].iter().any(|b| b.name == a.name) {
+            return Err(format!("two {kind} data arrays are named '{}'", a.name));
+        }
+        if a.components == 0 {
+            return Err(format!("{kind} data '{}' has 0 components", a.name));
+        }
+        let expected = a.components.checked_mul(count);
+        if expected != Some(a.values.len()) {
+            return Err(format!(
+                "{kind} data '{}' has {} values, expected {} ({} components × {count} {kind}s)",
+                a.name,
+                a.values.len(),
+                a.components * count,
+                a.components
+            ));
+        }
+        if let Some(k) = a.values.iter().position(|v| !v.is_finite()) {
+            return Err(format!(
+                "{kind} data '{}' value {k} is not finite ({})",
+                a.name, a.values[k]
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Escapes the five XML special characters of an attribute value.
+fn xml_escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for ch in s.chars() {
+        match ch {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+fn write_document<W: Write>(
+    w: &mut W,
+    mesh: &HighOrderMesh,
+    shapes: &[Shape],
+    point_data: &[DataArray],
+    cell_data: &[DataArray],
+    encoding: VtuEncoding,
+) -> std::io::Result<()> {
+    let p = mesh.order;
+    let mut perms: HashMap<Shape, Vec<usize>> = HashMap::new();
+    for &s in shapes {
+        perms.entry(s).or_insert_with(|| vtk_permutation(s, p));
+    }
+
+    writeln!(w, "<?xml version=\"1.0\"?>")?;
+    writeln!(
+        w,
+        "<VTKFile type=\"UnstructuredGrid\" version=\"2.2\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
+    )?;
+    writeln!(w, "  <UnstructuredGrid>")?;
+    writeln!(
+        w,
+        "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">",
+        mesh.nodes.len(),
+        mesh.cells.len()
+    )?;
+
+    for (tag, arrays) in [("PointData", point_data), ("CellData", cell_data)] {
+        if arrays.is_empty() {
+            continue;
+        }
+        writeln!(w, "      <{tag}>")?;
+        for a in arrays {
+            let mut array = Array::open(
+                w,
+                encoding,
+                "Float64",
+                Some(a.name),
+                a.components,
+                8 * a.values.len(),
+            )?;
+            for tuple in a.values.chunks(a.components) {
+                for &v in tuple {
+                    array.f64(v)?;
+                }
+                array.end_line()?;
+            }
+            array.close()?;
+        }
+        writeln!(w, "      </{tag}>")?;
+    }
+
+    writeln!(w, "      <Points>")?;
+    let mut array = Array::open(w, encoding, "Float64", None, 3, 24 * mesh.nodes.len())?;
+    for x in &mesh.nodes {
+        for &c in x {
+            array.f64(c)?;
+        }
+        array.end_line()?;
+    }
+    array.close()?;
+    writeln!(w, "      </Points>")?;
+
+    writeln!(w, "      <Cells>")?;
+    let total: usize = mesh.cells.iter().map(|c| c.nodes.len()).sum();
+    let mut array = Array::open(w, encoding, "Int64", Some("connectivity"), 1, 8 * total)?;
+    for (cell, shape) in mesh.cells.iter().zip(shapes) {
+        for &k in &perms[shape] {
+            array.i64(i64::from(cell.nodes[k]))?;
+        }
+        array.end_line()?;
+    }
+    array.close()?;
+    let mut array = Array::open(w, encoding, "Int64", Some("offsets"), 1, 8 * shapes.len())?;
+    let mut offset = 0i64;
+    for cell in &mesh.cells {
+        offset += cell.nodes.len() as i64;
+        array.i64(offset)?;
+        array.end_line()?;
+    }
+    array.close()?;
+    let mut array = Array::open(w, encoding, "UInt8", Some("types"), 1, shapes.len())?;
+    for &shape in shapes {
+        array.u8(vtk_cell_type(shape, p))?;
+        array.end_line()?;
+    }
+    array.close()?;
+    writeln!(w, "      </Cells>")?;
+
+    writeln!(w, "    </Piece>")?;
+    writeln!(w, "  </UnstructuredGrid>")?;
+    writeln!(w, "</VTKFile>")?;
+    Ok(())
+}
+
+/// One `<DataArray>` being written, ASCII or base64.
+struct Array<'w, W: Write> {
+    w: &'w mut W,
+    base64: Option<Base64>,
+    /// ASCII: whether the current line already has a value.
+    line_started: bool,
+}
+
+impl<'w, W: Write> Array<'w, W> {
+    fn open(
+        w: &'w mut W,
+        encoding: VtuEncoding,
+        ty: &str,
+        name: Option<&str>,
+        components: usize,
+        num_bytes: usize,
+    ) -> std::io::Result<Self> {
+        write!(w, "        <DataArray type=\"{ty}\"")?;
+        if let Some(name) = name {
+            write!(w, " Name=\"{}\"", xml_escape(name))?;
+        }
+        if components != 1 {
+            write!(w, " NumberOfComponents=\"{components}\"")?;
+        }
+        let format = match encoding {
+            VtuEncoding::Ascii => "ascii",
+            VtuEncoding::Base64 => "binary",
+        };
+        writeln!(w, " format=\"{format}\">")?;
+        let base64 = match encoding {
+            VtuEncoding::Ascii => None,
+            VtuEncoding::Base64 => {
+                write!(w, "          ")?;
+                let mut b = Base64::new();
+                // Uncompressed binary data is preceded by its size in bytes (header_type),
+                // encoded in the same base64 stream.
+                b.push(w, &(num_bytes as u64).to_le_bytes())?;
+                Some(b)
+            }
+        };
+        Ok(Array {
+            w,
+            base64,
+            line_started: false,
+        })
+    }
+
+    fn text(&mut self, args: std::fmt::Arguments) -> std::io::Result<()> {
+        if self.line_started {
+            self.w.write_all(b" ")?;
+        } else {
+            self.w.write_all(b"          ")?;
+            self.line_started = true;
+        }
+        self.w.write_fmt(args)
+    }
+
+    fn f64(&mut self, v: f64) -> std::io::Result<()> {
+        match &mut self.base64 {
+            Some(b) => b.push(self.w, &v.to_le_bytes()),
+            None => self.text(format_args!("{v:?}")),
+        }
+    }
+
+    fn i64(&mut self, v: i64) -> std::io::Result<()> {
+        match &mut self.base64 {
+            Some(b) => b.push(self.w, &v.to_le_bytes()),
+            None => self.text(format_args!("{v}")),
+        }
+    }
+
+    fn u8(&mut self, v: u8) -> std::io::Result<()> {
+        match &mut self.base64 {
+            Some(b) => b.push(self.w, &[v]),
+            None => self.text(format_args!("{v}")),
+        }
+    }
+
+    fn end_line(&mut self) -> std::io::Result<()> {
+        if self.base64.is_none() && self.line_started {
+            self.w.write_all(b"\n")?;
+            self.line_started = false;
+        }
+        Ok(())
+    }
+
+    fn close(mut self) -> std::io::Result<()> {
+        if let Some(b) = self.base64.take() {
+            b.finish(self.w)?;
+            self.w.write_all(b"\n")?;
+        } else {
+            self.end_line()?;
+        }
+        writeln!(self.w, "        </DataArray>")
+    }
+}
+
+/// Streaming base64 encoder (standard alphabet, padded), one line.
+struct Base64 {
+    pending: [u8; 3],
+    len: usize,
+}
+
+const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+
+impl Base64 {
+    fn new() -> Self {
+        Base64 {
+            pending: [0; 3],
+            len: 0,
+        }
+    }
+
+    fn push<W: Write>(&mut self, w: &mut W, bytes: &[u8]) -> std::io::Result<()> {
+        for &b in bytes {
+            self.pending[self.len] = b;
+            self.len += 1;
+            if self.len == 3 {
+                w.write_all(&encode_group(self.pending, 3))?;
+                self.len = 0;
+            }
+        }
+        Ok(())
+    }
+
+    fn finish<W: Write>(self, w: &mut W) -> std::io::Result<()> {
+        if self.len > 0 {
+            let mut group = [0u8; 3];
+            group[..self.len].copy_from_slice(&self.pending[..self.len]);
+            w.write_all(&encode_group(group, self.len))?;
+        }
+        Ok(())
+    }
+}
+
+/// Encodes up to three bytes (`n` of them meaningful) as four characters with padding.
+fn encode_group(b: [u8; 3], n: usize) -> [u8; 4] {
+    let v = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+    let c = |shift: u32| ALPHABET[((v >> shift) & 63) as usize];
+    [
+        c(18),
+        c(12),
+        if n > 1 { c(6) } else { b'=' },
+        if n > 2 { c(0) } else { b'=' },
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_mesh::{Element, ElementType, LinearMesh};
+    use hocurve_nodes::NodeFamily;
+
+    fn base64(bytes: &[u8]) -> String {
+        let mut out = Vec::new();
+        let mut b = Base64::new();
+        b.push(&mut out, bytes).unwrap();
+        b.finish(&mut out).unwrap();
+        String::from_utf8(out).unwrap()
+    }
+
+    #[test]
+    fn base64_matches_rfc_4648_vectors() {
+        for (input, expected) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            assert_eq!(base64(input.as_bytes()), expected);
+        }
+        assert_eq!(base64(&[0xff, 0xfe, 0xfd]), "//79");
+    }
+
+    fn two_triangles(order: usize) -> HighOrderMesh {
+        let mesh = LinearMesh {
+            dim: 2,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ],
+            cells: vec![
+                Element {
+                    kind: ElementType::Tri,
+                    vertices: vec![0, 1, 2],
+                    entity: 1,
+                },
+                Element {
+                    kind: ElementType::Tri,
+                    vertices: vec![0, 2, 3],
+                    entity: 1,
+                },
+            ],
+            ..Default::default()
+        };
+        HighOrderMesh::from_linear(&mesh, order, NodeFamily::Equispaced).unwrap()
+    }
+
+    #[test]
+    fn ascii_file_is_exact_and_deterministic() {
+        let dir = tempfile::tempdir().unwrap();
+        let mesh = two_triangles(1);
+        let path = dir.path().join("m.vtu");
+        let quality = [0.5, 1.0 / 3.0];
+        let cd = [DataArray {
+            name: "q<1>",
+            components: 1,
+            values: &quality,
+        }];
+        write_vtu_with(&path, &mesh, &[], &cd, VtuEncoding::Ascii).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let expected = r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="2.2" byte_order="LittleEndian" header_type="UInt64">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="4" NumberOfCells="2">
+      <CellData>
+        <DataArray type="Float64" Name="q&lt;1&gt;" format="ascii">
+          0.5
+          0.3333333333333333
+        </DataArray>
+      </CellData>
+      <Points>
+        <DataArray type="Float64" NumberOfComponents="3" format="ascii">
+          0.0 0.0 0.0
+          1.0 0.0 0.0
+          1.0 1.0 0.0
+          0.0 1.0 0.0
+        </DataArray>
+      </Points>
+      <Cells>
+        <DataArray type="Int64" Name="connectivity" format="ascii">
+          0 1 2
+          0 2 3
+        </DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">
+          3
+          6
+        </DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">
+          5
+          5
+        </DataArray>
+      </Cells>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+"#;
+        assert_eq!(text, expected);
+        let path2 = dir.path().join("m2.vtu");
+        write_vtu_with(&path2, &mesh, &[], &cd, VtuEncoding::Ascii).unwrap();
+        assert_eq!(std::fs::read(&path2).unwrap(), text.as_bytes());
+    }
+
+    #[test]
+    fn base64_file_holds_the_same_numbers() {
+        let dir = tempfile::tempdir().unwrap();
+        let mesh = two_triangles(3);
+        let path = dir.path().join("m.vtu");
+        write_vtu(&path, &mesh, &[], &[]).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("format=\"binary\""));
+        assert!(text.contains(">\n          "));
+        // The types array: header (1 byte per cell × 2) + [69, 69].
+        let mut bytes = 2u64.to_le_bytes().to_vec();
+        bytes.extend([69u8, 69]);
+        assert!(text.contains(&base64(&bytes)), "{text}");
+        // Same input, same bytes.
+        let path2 = dir.path().join("m2.vtu");
+        write_vtu(&path2, &mesh, &[], &[]).unwrap();
+        assert_eq!(std::fs::read(&path2).unwrap(), text.as_bytes());
+    }
+
+    #[test]
+    fn bad_arrays_are_rejected_before_writing() {
+        let dir = tempfile::tempdir().unwrap();
+        let mesh = two_triangles(2);
+        let path = dir.path().join("m.vtu");
+        let short = [1.0; 5];
+        let err = write_vtu(
+            &path,
+            &mesh,
+            &[DataArray {
+                name: "u",
+                components: 1,
+                values: &short,
+            }],
+            &[],
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            err.contains("point data 'u' has 5 values, expected 9"),
+            "{err}"
+        );
+        let two = [1.0, f64::NAN];
+        let err = write_vtu(
+            &path,
+            &mesh,
+            &[],
+            &[DataArray {
+                name: "q",
+                components: 1,
+                values: &two,
+            }],
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("not finite"), "{err}");
+        let ok = [1.0, 2.0];
+        let dup = [
+            DataArray {
+                name: "q",
+                components: 1,
+                values: &ok,
+            },
+            DataArray {
+                name: "q",
+                components: 1,
+                values: &ok,
+            },
+        ];
+        let err = write_vtu(&path, &mesh, &[], &dup).unwrap_err().to_string();
+        assert!(err.contains("two cell data arrays are named 'q'"), "{err}");
+        assert!(!path.exists());
+    }
+}
