@@ -108,73 +108,162 @@ fn python_env(offline: bool) -> Result<Option<PathBuf>> {
     Ok(Some(python))
 }
 
-/// Writes every fixture at p = 1..=6 as `.vtu` and `.msh` and has VTK and Gmsh check them:
-/// det J constant and positive in every straight cell, total volume equal to the linear
-/// mesh's.
+/// The interoperability checks: the real VTK and Gmsh read what `hocurve` writes and, with
+/// their own shape functions at Gauss points, find det J positive and constant in every
+/// straight cell and the total volume (area) equal to the linear mesh's. Run on the sample
+/// meshes of `crates/io/tests/interop.rs` (every element type, every face orientation,
+/// p = 1..6) and on the fixtures written by the `hocurve` binary.
 fn interop(args: &[String]) -> Result<()> {
     let offline = args.iter().any(|a| a == "--offline");
     let Some(python) = python_env(offline)? else {
         return Ok(());
     };
+    let out = root().join("target").join("interop");
+    let samples = out.join("samples");
+    let fixtures_dir = out.join("fixtures");
+    for dir in [&samples, &fixtures_dir] {
+        if dir.exists() {
+            std::fs::remove_dir_all(dir)?;
+        }
+        std::fs::create_dir_all(dir)?;
+    }
+    run(
+        "write the interop sample meshes",
+        cargo().env("HOCURVE_INTEROP_DIR", &samples).args([
+            "test",
+            "-p",
+            "hocurve-io",
+            "--test",
+            "interop",
+        ]),
+    )?;
+
     run(
         "build hocurve",
         cargo().args(["build", "-p", "hocurve-cli"]),
     )?;
     let hocurve = root().join("target").join("debug").join("hocurve");
-    let out = root().join("target").join("interop");
-    std::fs::create_dir_all(&out)?;
     let fixtures = [
         ("fixtures/formats/cube_v41_ascii.msh", 6),
         ("fixtures/formats/square_v41_ascii.msh", 6),
         ("fixtures/hybrid/hybrid.msh", 6),
         ("fixtures/quad/naca0012_quads.msh", 6),
         ("fixtures/naca0012/naca0012.msh", 6),
-        ("fixtures/sphere/sphere.msh", 3),
+        ("fixtures/sphere/sphere.msh", 4),
     ];
-    let mut vtu_files = Vec::new();
-    let mut msh_files = Vec::new();
+    let mut manifest = String::from("# file\tmeasure of the linear mesh\n");
+    let mut files = Vec::new();
     for (fixture, max_order) in fixtures {
+        let measure = linear_measure(&root().join(fixture))?;
         let stem = Path::new(fixture)
             .file_stem()
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default();
         for p in 1..=max_order {
-            for ext in ["vtu", "msh"] {
-                let file = out.join(format!("{stem}_p{p}.{ext}"));
-                run(
-                    &format!("hocurve curve {fixture} --order {p} -> {}", file.display()),
-                    Command::new(&hocurve)
-                        .current_dir(root())
-                        .args([
-                            "curve",
-                            fixture,
-                            "--straight",
-                            "--order",
-                            &p.to_string(),
-                            "-o",
-                        ])
-                        .arg(&file),
-                )?;
-                if ext == "vtu" {
-                    vtu_files.push(file);
-                } else {
-                    msh_files.push(file);
+            for (ext, nodes) in [
+                ("vtu", "equispaced"),
+                ("msh", "equispaced"),
+                ("vtu", "fekete"),
+            ] {
+                let name = format!("{stem}_p{p}_{nodes}.{ext}");
+                let file = fixtures_dir.join(&name);
+                let status = Command::new(&hocurve)
+                    .current_dir(root())
+                    .args(["curve", fixture, "--straight", "--order", &p.to_string()])
+                    .args(["--nodes", nodes, "-o"])
+                    .arg(&file)
+                    .stdout(std::process::Stdio::null())
+                    .status()?;
+                if !status.success() {
+                    bail!("hocurve curve {fixture} --order {p} --nodes {nodes} failed");
                 }
+                manifest.push_str(&format!("{name}\t{measure:.17e}\n"));
+                files.push(file);
             }
         }
     }
+    let fixture_manifest = fixtures_dir.join("expected.tsv");
+    std::fs::write(&fixture_manifest, manifest)?;
+
     let scripts = root().join("xtask").join("scripts");
-    run(
-        "VTK reads our .vtu files",
-        Command::new(&python)
-            .arg(scripts.join("check_vtu.py"))
-            .args(&vtu_files),
-    )?;
-    run(
-        "Gmsh reads our .msh files",
-        Command::new(&python)
-            .arg(scripts.join("check_msh.py"))
-            .args(&msh_files),
-    )?;
+    let with_ext = |dir: &Path, ext: &str| -> Result<Vec<PathBuf>> {
+        let mut v: Vec<PathBuf> = std::fs::read_dir(dir)?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == ext))
+            .collect();
+        v.sort();
+        Ok(v)
+    };
+    // The samples are affine cells (det J constant: strict check); the fixtures' quads and
+    // hexes are bilinear/trilinear, whose det J varies, so there the node positions (the
+    // straight-sided map), positivity and the total measure are checked.
+    for (dir, manifest, mode) in [
+        (&samples, samples.join("expected.tsv"), None),
+        (
+            &fixtures_dir,
+            fixture_manifest.clone(),
+            Some("--no-constant"),
+        ),
+    ] {
+        for (ext, script, reader) in [
+            ("vtu", "check_vtu.py", "VTK"),
+            ("msh", "check_msh.py", "Gmsh"),
+        ] {
+            let files = with_ext(dir, ext)?;
+            run(
+                &format!(
+                    "{reader} reads {} .{ext} files in {}",
+                    files.len(),
+                    dir.display()
+                ),
+                Command::new(&python)
+                    .arg(scripts.join(script))
+                    .args(mode)
+                    .arg("--manifest")
+                    .arg(&manifest)
+                    .args(&files),
+            )?;
+        }
+    }
     Ok(())
+}
+
+/// Total volume (3D) or area (2D) of the straight-sided mesh in `path`: Σ_cells Σ_q w_q |det J|
+/// with a quadrature exact for the (bi/tri)linear maps' Jacobians.
+fn linear_measure(path: &Path) -> Result<f64> {
+    use hocurve_nodes::{LagrangeBasis, NodeFamily, QuadratureRule, ReferenceNodes};
+    let mesh = hocurve_io::read_msh(path)?;
+    let mut total = 0.0;
+    let mut cache = std::collections::HashMap::new();
+    for cell in &mesh.cells {
+        let shape = cell.kind.shape()?;
+        if !cache.contains_key(&shape) {
+            let basis =
+                LagrangeBasis::new(&ReferenceNodes::try_new(shape, 1, NodeFamily::Equispaced)?)?;
+            cache.insert(shape, (basis, QuadratureRule::new(shape, 4)));
+        }
+        let (basis, rule) = &cache[&shape];
+        let mut grads = vec![[0.0; 3]; basis.len()];
+        for (xi, w) in rule.points.iter().zip(&rule.weights) {
+            basis.eval_grad(*xi, &mut grads);
+            let mut j = [[0.0; 3]; 3];
+            for (g, &v) in grads.iter().zip(&cell.vertices) {
+                let x = mesh.vertices[v as usize];
+                for a in 0..3 {
+                    for b in 0..3 {
+                        j[a][b] += x[a] * g[b];
+                    }
+                }
+            }
+            let det = if mesh.dim == 2 {
+                j[0][0] * j[1][1] - j[0][1] * j[1][0]
+            } else {
+                j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+                    - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+                    + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
+            };
+            total += w * det.abs();
+        }
+    }
+    Ok(total)
 }
