@@ -237,10 +237,10 @@ fn linear_measure(path: &Path) -> Result<f64> {
     let mut cache = std::collections::HashMap::new();
     for cell in &mesh.cells {
         let shape = cell.kind.shape()?;
-        if !cache.contains_key(&shape) {
+        if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(shape) {
             let basis =
                 LagrangeBasis::new(&ReferenceNodes::try_new(shape, 1, NodeFamily::Equispaced)?)?;
-            cache.insert(shape, (basis, QuadratureRule::new(shape, 4)));
+            slot.insert((basis, QuadratureRule::new(shape, 4)));
         }
         let (basis, rule) = &cache[&shape];
         let mut grads = vec![[0.0; 3]; basis.len()];
