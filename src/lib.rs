@@ -5,6 +5,8 @@
 //! geometry ([`nurbs`]), boundary nodes ([`geodesic`]), elasticity ([`elastic`]) and
 //! quality ([`quality`]).
 
+pub mod interpolation;
+
 pub use hocurve_elastic as elastic;
 pub use hocurve_geodesic as geodesic;
 pub use hocurve_io as io;

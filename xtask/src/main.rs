@@ -15,9 +15,10 @@ fn main() -> Result<()> {
     match args.first().map(String::as_str) {
         Some("verify") => verify(&args[1..]),
         Some("interop") => interop(&args[1..]),
+        Some("interpolation") => interpolation_table(),
         _ => {
             eprintln!(
-                "usage: cargo xtask verify [--offline] [--skip-lint]\n       cargo xtask interop [--offline]"
+                "usage: cargo xtask verify [--offline] [--skip-lint]\n       cargo xtask interop [--offline]\n       cargo xtask interpolation"
             );
             bail!("unknown or missing task")
         }
@@ -68,8 +69,36 @@ fn verify(args: &[String]) -> Result<()> {
         )?;
     }
     run("cargo test", cargo().args(["test", "--workspace"]))?;
+    interpolation_table()?;
     interop(args)?;
     eprintln!("==> verify: all steps passed");
+    Ok(())
+}
+
+/// The paper's Fig. 12b study: L2 error of the order-p Fekete interpolant of
+/// f = x cos y + y sin x on straight meshes of the unit square (50 triangles, 49 quads).
+/// The test `tests/interpolation.rs` asserts the exponential decay; this prints the table.
+fn interpolation_table() -> Result<()> {
+    use hocurve::interpolation::{interpolation_l2_error, paper_test_function, unit_square_mesh};
+    use hocurve::mesh::{ElementType, HighOrderMesh};
+    use hocurve::nodes::NodeFamily;
+    eprintln!("==> interpolation error (paper Fig. 12b), Fekete nodes");
+    println!(
+        "{:<14} {:>2} {:>10} {:>12}",
+        "mesh", "p", "sqrt(ndof)", "L2 error"
+    );
+    for (kind, n, label) in [
+        (ElementType::Tri, 5, "50 triangles"),
+        (ElementType::Quad, 7, "49 quads"),
+    ] {
+        let mesh = unit_square_mesh(n, kind);
+        for p in 1..=7 {
+            let ho = HighOrderMesh::from_linear(&mesh, p, NodeFamily::Fekete)?;
+            let e = interpolation_l2_error(&ho, paper_test_function)?;
+            let root_ndof = (ho.nodes.len() as f64).sqrt();
+            println!("{label:<14} {p:>2} {root_ndof:>10.2} {e:>12.3e}");
+        }
+    }
     Ok(())
 }
 

@@ -31,8 +31,10 @@ enum Command {
         /// Polynomial order P of the output mesh (1 = linear).
         #[arg(short = 'p', long, value_parser = clap::value_parser!(u32).range(1..=20))]
         order: u32,
-        /// Nodal distribution on the reference elements.
-        #[arg(long, default_value = "equispaced")]
+        /// Nodal distribution on the reference elements: fekete, gll, warp-blend or
+        /// equispaced. Output files always hold equispaced nodes (what VTK and Gmsh assume);
+        /// the distribution decides where the mesh is sampled and, later, curved.
+        #[arg(long, default_value = "fekete")]
         nodes: NodeFamily,
         /// Keep the elements straight-sided (no geometry, no curving).
         #[arg(long)]

@@ -1,0 +1,134 @@
+//! The interpolation-error study of the paper's Fig. 12b: how well the order-p nodal
+//! interpolant on a mesh approximates a smooth function, measured in L2.
+
+use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh, MeshError};
+use hocurve_nodes::{LagrangeBasis, QuadratureRule, ReferenceNodes};
+
+/// ‖f − Π_p f‖_{L2(Ω)} where Π_p f = Σⱼ f(xⱼ) Φⱼ interpolates `f` at the mesh's nodes,
+/// integrated cell by cell with a quadrature of degree 2p + 6 (high enough that the
+/// quadrature error is far below the interpolation error), |det J| from the cells' own maps.
+pub fn interpolation_l2_error(
+    mesh: &HighOrderMesh,
+    f: impl Fn([f64; 3]) -> f64,
+) -> Result<f64, MeshError> {
+    let p = mesh.order;
+    let mut total = 0.0;
+    let mut cache = std::collections::HashMap::new();
+    for cell in &mesh.cells {
+        let shape = cell.kind.shape()?;
+        if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(shape) {
+            let nodes = ReferenceNodes::try_new(shape, p, mesh.family)?;
+            slot.insert((
+                LagrangeBasis::new(&nodes)?,
+                QuadratureRule::new(shape, 2 * p + 6),
+            ));
+        }
+        let (basis, rule) = &cache[&shape];
+        let x: Vec<[f64; 3]> = cell.nodes.iter().map(|&n| mesh.nodes[n as usize]).collect();
+        let fx: Vec<f64> = x.iter().map(|&xj| f(xj)).collect();
+        let mut values = vec![0.0; basis.len()];
+        let mut grads = vec![[0.0; 3]; basis.len()];
+        for (xi, w) in rule.points.iter().zip(&rule.weights) {
+            basis.eval(*xi, &mut values);
+            basis.eval_grad(*xi, &mut grads);
+            let mut point = [0.0; 3];
+            let mut jac = [[0.0; 3]; 3];
+            let mut interpolant = 0.0;
+            for j in 0..basis.len() {
+                interpolant += values[j] * fx[j];
+                for a in 0..3 {
+                    point[a] += values[j] * x[j][a];
+                    for b in 0..3 {
+                        jac[a][b] += x[j][a] * grads[j][b];
+                    }
+                }
+            }
+            let det = if mesh.dim == 2 {
+                jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0]
+            } else {
+                jac[0][0] * (jac[1][1] * jac[2][2] - jac[1][2] * jac[2][1])
+                    - jac[0][1] * (jac[1][0] * jac[2][2] - jac[1][2] * jac[2][0])
+                    + jac[0][2] * (jac[1][0] * jac[2][1] - jac[1][1] * jac[2][0])
+            };
+            let e = interpolant - f(point);
+            total += w * det.abs() * e * e;
+        }
+    }
+    Ok(total.sqrt())
+}
+
+/// The structured mesh of the unit square with `n × n` quadrilaterals, or `2n²` triangles
+/// (each square cut along its diagonal), counter-clockwise.
+pub fn unit_square_mesh(n: usize, kind: ElementType) -> LinearMesh {
+    let id = |i: usize, j: usize| (i + (n + 1) * j) as u32;
+    let mut vertices = Vec::with_capacity((n + 1) * (n + 1));
+    for j in 0..=n {
+        for i in 0..=n {
+            vertices.push([i as f64 / n as f64, j as f64 / n as f64, 0.0]);
+        }
+    }
+    let mut cells = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            let mut push = |kind, vertices| {
+                cells.push(Element {
+                    kind,
+                    vertices,
+                    entity: 1,
+                })
+            };
+            if kind == ElementType::Quad {
+                push(ElementType::Quad, vec![a, b, c, d]);
+            } else {
+                push(ElementType::Tri, vec![a, b, c]);
+                push(ElementType::Tri, vec![a, c, d]);
+            }
+        }
+    }
+    LinearMesh {
+        dim: 2,
+        vertices,
+        cells,
+        ..Default::default()
+    }
+}
+
+/// The paper's test function f(x, y) = x cos y + y sin x (Sect. 5, Fig. 12b).
+pub fn paper_test_function(x: [f64; 3]) -> f64 {
+    x[0] * x[1].cos() + x[1] * x[0].sin()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_nodes::NodeFamily;
+
+    #[test]
+    fn polynomials_of_degree_p_are_interpolated_exactly() {
+        for kind in [ElementType::Tri, ElementType::Quad] {
+            let mesh = unit_square_mesh(3, kind);
+            for p in 1..=4 {
+                let ho = HighOrderMesh::from_linear(&mesh, p, NodeFamily::Fekete).unwrap();
+                let f = |x: [f64; 3]| (x[0] - 2.0 * x[1] + 0.5).powi(p as i32);
+                assert!(interpolation_l2_error(&ho, f).unwrap() < 1e-12);
+                // One degree more is not: the study can fail.
+                let g = |x: [f64; 3]| (x[0] - 2.0 * x[1] + 0.5).powi(p as i32 + 1);
+                assert!(interpolation_l2_error(&ho, g).unwrap() > 1e-6);
+            }
+        }
+    }
+
+    /// Linear interpolation of x² on the diagonal-cut grid of spacing h is the 1D one on
+    /// every horizontal line, so ‖x² − Π₁x²‖² = ∫₀ʰ x²(x − h)² dx / h = h⁴/30 exactly.
+    #[test]
+    fn linear_interpolation_error_of_x_squared_is_h4_over_30() {
+        let mesh = unit_square_mesh(4, ElementType::Tri);
+        let ho = HighOrderMesh::from_linear(&mesh, 2, NodeFamily::Equispaced).unwrap();
+        let p1 = HighOrderMesh::from_linear(&mesh, 1, NodeFamily::Equispaced).unwrap();
+        let h = 0.25f64;
+        let e = interpolation_l2_error(&p1, |x| x[0] * x[0]).unwrap();
+        assert!((e * e - h.powi(4) / 30.0).abs() < 1e-14, "{e}");
+        assert!(interpolation_l2_error(&ho, |x| x[0] * x[0]).unwrap() < 1e-14);
+    }
+}
