@@ -121,3 +121,30 @@ fn round_trip_through_msh_at_p1_gives_the_same_mesh() {
         same_mesh(&mesh, &back, name);
     }
 }
+
+/// VTK and Gmsh assume equispaced nodes: `write_mesh` resamples a Fekete mesh (same
+/// geometry), while the format writers refuse it rather than write a wrong geometry.
+#[test]
+fn fekete_meshes_are_resampled_on_output_and_refused_by_the_raw_writers() {
+    use hocurve::io::{write_mesh, write_vtu};
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = read_msh(&fixture("hybrid/hybrid.msh")).unwrap();
+    let fekete = HighOrderMesh::from_linear(&mesh, 4, NodeFamily::Fekete).unwrap();
+    let err = write_vtu(&dir.path().join("raw.vtu"), &fekete, &[], &[]).unwrap_err();
+    assert!(err.to_string().contains("equispaced"), "{err}");
+    assert!(!dir.path().join("raw.vtu").exists());
+    let err = write_msh(&dir.path().join("raw.msh"), &fekete).unwrap_err();
+    assert!(err.to_string().contains("equispaced"), "{err}");
+    // Through write_mesh the written nodes are the equispaced straight nodes.
+    let out = dir.path().join("resampled.msh");
+    write_mesh(&out, &fekete).unwrap();
+    let equispaced = HighOrderMesh::from_linear(&mesh, 4, NodeFamily::Equispaced).unwrap();
+    let text = std::fs::read_to_string(&out).unwrap();
+    let resampled = fekete.resampled(NodeFamily::Equispaced).unwrap();
+    for (a, b) in resampled.nodes.iter().zip(&equispaced.nodes) {
+        assert!((0..3).all(|d| (a[d] - b[d]).abs() < 1e-12));
+    }
+    assert!(text.contains("$Nodes"));
+    let err = write_mesh(&dir.path().join("mesh.obj"), &fekete).unwrap_err();
+    assert!(err.to_string().contains("unknown output format"), "{err}");
+}

@@ -40,6 +40,13 @@ pub fn write_msh(path: &Path, mesh: &HighOrderMesh) -> Result<(), IoError> {
         path: path.to_path_buf(),
         message,
     };
+    if mesh.family != hocurve_nodes::NodeFamily::Equispaced && mesh.order > 2 {
+        // Gmsh places high-order nodes equispaced; other positions would change the geometry.
+        return Err(bad(format!(
+            "the mesh has {} nodes; Gmsh high-order elements need equispaced nodes: resample it with HighOrderMesh::resampled (write_mesh does)",
+            mesh.family
+        )));
+    }
     let plan = Plan::new(mesh).map_err(bad)?;
     write_atomically(path, |w| {
         plan.write(w, mesh).map_err(|source| IoError::Os {

@@ -100,6 +100,13 @@ fn check_mesh(mesh: &HighOrderMesh) -> Result<Vec<Shape>, String> {
     if mesh.order == 0 {
         return Err("mesh order 0".into());
     }
+    if mesh.family != hocurve_nodes::NodeFamily::Equispaced && mesh.order > 2 {
+        // VTK places Lagrange nodes equispaced; other positions would change the geometry.
+        return Err(format!(
+            "the mesh has {} nodes; VTK Lagrange cells need equispaced nodes: resample it with HighOrderMesh::resampled (write_mesh does)",
+            mesh.family
+        ));
+    }
     if let Some(i) = mesh
         .nodes
         .iter()

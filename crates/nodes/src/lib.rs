@@ -1,17 +1,31 @@
-//! Reference elements for high-order finite elements: the shapes hocurve meshes are made of
-//! ([`Shape`]), their vertices, edges and faces, and the p-th order nodal sets placed on them
-//! ([`ReferenceNodes`], families in [`NodeFamily`]).
+//! Reference elements for high-order finite elements (the paper's Sect. 2): the shapes
+//! hocurve meshes are made of ([`Shape`]); p-th order nodal sets on them ([`ReferenceNodes`]:
+//! equispaced, Gauss–Lobatto, warp & blend and Fekete, see [`NodeFamily`]); orthonormal
+//! bases ([`OrthonormalBasis`]) and Lagrange bases on any nodal set ([`LagrangeBasis`]);
+//! Gauss rules in 1D ([`gauss_legendre`], [`gauss_lobatto_legendre`], [`gauss_jacobi`]) and
+//! quadrature exact to any degree on every shape ([`QuadratureRule`]).
 //!
 //! Every reference element lives in the unit box: the simplices have their right-angle
 //! vertex at the origin, the quadrilateral and hexahedron are `[0, 1]^d`. Nodes are listed
 //! in hocurve's *canonical local order*: vertices, then the interior nodes of each edge, of
-//! each face, then of the cell (see [`ReferenceNodes`]).
+//! each face, then of the cell (see [`ReferenceNodes`]). Fekete points are optimised at run
+//! time (under 0.5 s for a tetrahedron at p = 10, milliseconds below p = 8) and cached.
 //!
 //! ```
-//! use hocurve_nodes::{NodeFamily, ReferenceNodes, Shape};
+//! use hocurve_nodes::{LagrangeBasis, NodeFamily, QuadratureRule, ReferenceNodes, Shape};
 //! let tet = ReferenceNodes::new(Shape::Tet, 3, NodeFamily::Equispaced);
 //! assert_eq!(tet.len(), 20); // (p+1)(p+2)(p+3)/6
 //! assert_eq!(tet.points()[1], [1.0, 0.0, 0.0]);
+//! // Fekete nodes interpolate; the Lagrange basis is 1 at its own node.
+//! let tri = ReferenceNodes::new(Shape::Tri, 6, NodeFamily::Fekete);
+//! let basis = LagrangeBasis::new(&tri).unwrap();
+//! let mut phi = vec![0.0; basis.len()];
+//! basis.eval(tri.points()[20], &mut phi);
+//! assert!((phi[20] - 1.0).abs() < 1e-12);
+//! // A degree-4 rule integrates x²y² over the triangle exactly: 2!·2!/6! = 1/180.
+//! let rule = QuadratureRule::new(Shape::Tri, 4);
+//! let integral: f64 = rule.points.iter().zip(&rule.weights).map(|(x, w)| w * x[0] * x[0] * x[1] * x[1]).sum();
+//! assert!((integral - 1.0 / 180.0).abs() < 1e-15);
 //! ```
 
 mod basis;
