@@ -1,4 +1,28 @@
-//! NURBS curves and surfaces for hocurve: evaluation, point inversion and arc length
-//! (the paper's Sect. 3.1), plus exact representations of analytic shapes.
+//! NURBS curves and surfaces for hocurve (the paper's Sect. 3.1): B-spline basis functions
+//! ([`basis`]), rational curves ([`NurbsCurve`]) and surfaces ([`NurbsSurface`]) with first and
+//! second derivatives and knot insertion, exact rational representations of circles, spheres,
+//! cylinders and tori with closed-form projections ([`shapes`]), point inversion
+//! ([`inversion`]) and arc length with its inverse ([`arc_length`]).
 //!
-//! Not yet implemented: this crate is filled in by issue [3/7] (Geometry).
+//! ```
+//! use hocurve_nurbs::shapes;
+//! let circle = shapes::circle([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 2.0).unwrap();
+//! let p = circle.point(0.3);
+//! assert!(((p[0] * p[0] + p[1] * p[1]).sqrt() - 2.0).abs() < 1e-14);
+//! let length = hocurve_nurbs::arc_length::arc_length(&circle, 0.0, 1.0);
+//! assert!((length - 4.0 * std::f64::consts::PI).abs() < 1e-12);
+//! ```
+
+pub mod arc_length;
+pub mod basis;
+pub mod curve;
+mod error;
+pub mod iges;
+pub mod inversion;
+pub mod shapes;
+pub mod surface;
+pub(crate) mod vec3;
+
+pub use curve::NurbsCurve;
+pub use error::NurbsError;
+pub use surface::{NurbsSurface, SurfaceDerivatives};

@@ -1,0 +1,336 @@
+//! B-spline basis functions on a knot vector: knot span search and the values and
+//! derivatives of the non-zero basis functions (Piegl & Tiller, *The NURBS Book*,
+//! algorithms A2.1–A2.3), plus validation of knot vectors and weights.
+//!
+//! Conventions: degree `p`, control points `P_0 … P_n`, knots `U_0 … U_{n+p+1}`, parameter
+//! domain `[U_p, U_{n+1}]`. Evaluation allocates nothing (scratch lives on the stack, hence
+//! [`MAX_DEGREE`]).
+
+use crate::NurbsError;
+
+/// Highest supported degree.
+pub const MAX_DEGREE: usize = 24;
+/// `MAX_DEGREE + 1`: the length of the basis buffers.
+pub const MAX_ORDER: usize = MAX_DEGREE + 1;
+
+/// Checks a knot vector for `n_control` control points of degree `degree`: degree in
+/// `1..=MAX_DEGREE`, at least `degree + 1` control points, `n_control + degree + 1` finite,
+/// non-decreasing knots and a domain of positive length.
+pub fn validate_knot_vector(
+    degree: usize,
+    knots: &[f64],
+    n_control: usize,
+) -> Result<(), NurbsError> {
+    if degree == 0 || degree > MAX_DEGREE {
+        return Err(NurbsError::Degree {
+            degree,
+            max: MAX_DEGREE,
+        });
+    }
+    if n_control < degree + 1 {
+        return Err(NurbsError::TooFewControlPoints {
+            degree,
+            found: n_control,
+            needed: degree + 1,
+        });
+    }
+    let expected = n_control + degree + 1;
+    if knots.len() != expected {
+        return Err(NurbsError::KnotCount {
+            expected,
+            found: knots.len(),
+            control_points: n_control,
+            degree,
+        });
+    }
+    for (index, &value) in knots.iter().enumerate() {
+        if !value.is_finite() {
+            return Err(NurbsError::NonFiniteKnot { index, value });
+        }
+    }
+    for index in 1..knots.len() {
+        if knots[index] < knots[index - 1] {
+            return Err(NurbsError::DecreasingKnots {
+                index,
+                previous: knots[index - 1],
+                value: knots[index],
+            });
+        }
+    }
+    let (start, end) = (knots[degree], knots[n_control]);
+    if start >= end {
+        return Err(NurbsError::EmptyDomain { start, end });
+    }
+    Ok(())
+}
+
+/// Checks that there is one finite, strictly positive weight per control point.
+pub fn validate_weights(weights: &[f64], n_control: usize) -> Result<(), NurbsError> {
+    if weights.len() != n_control {
+        return Err(NurbsError::WeightCount {
+            expected: n_control,
+            found: weights.len(),
+        });
+    }
+    for (index, &value) in weights.iter().enumerate() {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(NurbsError::NonPositiveWeight { index, value });
+        }
+    }
+    Ok(())
+}
+
+/// Knot span index `i` with `U_i ≤ u < U_{i+1}` and `U_i < U_{i+1}` (A2.1), for a valid knot
+/// vector of degree `degree`. Parameters outside the domain are clamped to its ends; at the end
+/// knot `u = U_{n+1}` the last non-empty span is returned, so repeated knots never yield a
+/// zero-length span.
+pub fn find_span(degree: usize, knots: &[f64], u: f64) -> usize {
+    let n = knots.len() - degree - 2;
+    if u >= knots[n + 1] {
+        let mut span = n;
+        while span > degree && knots[span] >= knots[span + 1] {
+            span -= 1;
+        }
+        return span;
+    }
+    if u <= knots[degree] {
+        let mut span = degree;
+        while span < n && knots[span + 1] <= knots[span] {
+            span += 1;
+        }
+        return span;
+    }
+    let (mut low, mut high) = (degree, n + 1);
+    let mut mid = (low + high) / 2;
+    while u < knots[mid] || u >= knots[mid + 1] {
+        if u < knots[mid] {
+            high = mid;
+        } else {
+            low = mid;
+        }
+        mid = (low + high) / 2;
+    }
+    mid
+}
+
+/// The `degree + 1` non-zero basis functions `N_{span-p}(u) … N_{span}(u)` (A2.2), written to
+/// `out[..=degree]`.
+pub fn basis_functions(span: usize, u: f64, degree: usize, knots: &[f64], out: &mut [f64]) {
+    let mut left = [0.0; MAX_ORDER];
+    let mut right = [0.0; MAX_ORDER];
+    out[0] = 1.0;
+    for j in 1..=degree {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let temp = out[r] / (right[r + 1] + left[j - r]);
+            out[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        out[j] = saved;
+    }
+}
+
+/// The non-zero basis functions and their derivatives up to order `n_derivs` (A2.3):
+/// `ders[k][j]` is the k-th derivative of `N_{span-p+j}` at `u`. Derivatives above the degree
+/// are zero. `ders` needs at least `n_derivs + 1` rows.
+pub fn basis_function_derivatives(
+    span: usize,
+    u: f64,
+    degree: usize,
+    n_derivs: usize,
+    knots: &[f64],
+    ders: &mut [[f64; MAX_ORDER]],
+) {
+    let p = degree;
+    let mut left = [0.0; MAX_ORDER];
+    let mut right = [0.0; MAX_ORDER];
+    let mut ndu = [[0.0; MAX_ORDER]; MAX_ORDER];
+    ndu[0][0] = 1.0;
+    for j in 1..=p {
+        left[j] = u - knots[span + 1 - j];
+        right[j] = knots[span + j] - u;
+        let mut saved = 0.0;
+        for r in 0..j {
+            // Lower triangle: knot differences; upper triangle: basis functions.
+            ndu[j][r] = right[r + 1] + left[j - r];
+            let temp = ndu[r][j - 1] / ndu[j][r];
+            ndu[r][j] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        ndu[j][j] = saved;
+    }
+    for row in ders.iter_mut().take(n_derivs + 1) {
+        row.iter_mut().for_each(|d| *d = 0.0);
+    }
+    for j in 0..=p {
+        ders[0][j] = ndu[j][p];
+    }
+    let n = n_derivs.min(p);
+    let mut a = [[0.0; MAX_ORDER]; 2];
+    for r in 0..=p {
+        let (mut s1, mut s2) = (0, 1);
+        a[0][0] = 1.0;
+        for k in 1..=n {
+            let mut d = 0.0;
+            let rk = r as isize - k as isize;
+            let pk = p - k;
+            if r >= k {
+                let rk = rk as usize;
+                a[s2][0] = a[s1][0] / ndu[pk + 1][rk];
+                d = a[s2][0] * ndu[rk][pk];
+            }
+            let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
+            let j2 = if r as isize - 1 <= pk as isize {
+                k - 1
+            } else {
+                p - r
+            };
+            for j in j1..=j2 {
+                let idx = (rk + j as isize) as usize;
+                a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
+                d += a[s2][j] * ndu[idx][pk];
+            }
+            if r <= pk {
+                a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
+                d += a[s2][k] * ndu[r][pk];
+            }
+            ders[k][r] = d;
+            std::mem::swap(&mut s1, &mut s2);
+        }
+    }
+    let mut factor = p as f64;
+    for k in 1..=n {
+        for j in 0..=p {
+            ders[k][j] *= factor;
+        }
+        factor *= (p - k) as f64;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Cubic with a double interior knot at 0.5 and clamped ends.
+    const KNOTS: [f64; 10] = [0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.5, 1.0, 1.0, 1.0];
+
+    // Note: KNOTS has 10 entries with degree 3 → 6 control points, but the end is only
+    // triple; use the clamped vector below for span tests.
+    const CLAMPED: [f64; 11] = [0.0, 0.0, 0.0, 0.0, 0.25, 0.5, 0.5, 1.0, 1.0, 1.0, 1.0];
+
+    #[test]
+    fn validation_reports_what_is_wrong() {
+        assert!(validate_knot_vector(3, &CLAMPED, 7).is_ok());
+        assert!(matches!(
+            validate_knot_vector(3, &KNOTS, 7),
+            Err(NurbsError::KnotCount {
+                expected: 11,
+                found: 10,
+                ..
+            })
+        ));
+        let mut bad = CLAMPED;
+        bad[5] = 0.1;
+        assert!(matches!(
+            validate_knot_vector(3, &bad, 7),
+            Err(NurbsError::DecreasingKnots { index: 5, .. })
+        ));
+        assert!(matches!(
+            validate_knot_vector(0, &CLAMPED, 10),
+            Err(NurbsError::Degree { .. })
+        ));
+        assert!(matches!(
+            validate_knot_vector(3, &[0.0; 8], 4),
+            Err(NurbsError::EmptyDomain { .. })
+        ));
+        assert!(matches!(
+            validate_weights(&[1.0, 0.0, 1.0], 3),
+            Err(NurbsError::NonPositiveWeight { index: 1, .. })
+        ));
+        assert!(matches!(
+            validate_weights(&[1.0], 3),
+            Err(NurbsError::WeightCount {
+                expected: 3,
+                found: 1
+            })
+        ));
+    }
+
+    #[test]
+    fn span_search_handles_ends_and_repeated_knots() {
+        let p = 3;
+        assert_eq!(find_span(p, &CLAMPED, 0.0), 3);
+        assert_eq!(find_span(p, &CLAMPED, -1.0), 3);
+        assert_eq!(find_span(p, &CLAMPED, 0.1), 3);
+        assert_eq!(find_span(p, &CLAMPED, 0.25), 4);
+        assert_eq!(find_span(p, &CLAMPED, 0.4), 4);
+        // Double knot at 0.5 (indices 5, 6): the span starting at 0.5 is 6.
+        assert_eq!(find_span(p, &CLAMPED, 0.5), 6);
+        assert_eq!(find_span(p, &CLAMPED, 0.99), 6);
+        // End knot: last non-empty span.
+        assert_eq!(find_span(p, &CLAMPED, 1.0), 6);
+        assert_eq!(find_span(p, &CLAMPED, 2.0), 6);
+    }
+
+    #[test]
+    fn bernstein_basis_on_a_single_span() {
+        // Knots [0,0,0,0,1,1,1,1]: the cubic Bernstein polynomials.
+        let knots = [0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0];
+        for &u in &[0.0, 0.2, 0.5, 0.77, 1.0] {
+            let span = find_span(3, &knots, u);
+            let mut n = [0.0; 4];
+            basis_functions(span, u, 3, &knots, &mut n);
+            let t = 1.0 - u;
+            let exact = [t * t * t, 3.0 * u * t * t, 3.0 * u * u * t, u * u * u];
+            let mut ders = [[0.0; MAX_ORDER]; 4];
+            basis_function_derivatives(span, u, 3, 3, &knots, &mut ders);
+            let d1 = [
+                -3.0 * t * t,
+                3.0 * t * t - 6.0 * u * t,
+                6.0 * u * t - 3.0 * u * u,
+                3.0 * u * u,
+            ];
+            let d2 = [6.0 * t, -12.0 * t + 6.0 * u, 6.0 * t - 12.0 * u, 6.0 * u];
+            let d3 = [-6.0, 18.0, -18.0, 6.0];
+            for j in 0..4 {
+                assert!((n[j] - exact[j]).abs() < 1e-15);
+                assert!((ders[0][j] - exact[j]).abs() < 1e-15);
+                assert!((ders[1][j] - d1[j]).abs() < 1e-13);
+                assert!((ders[2][j] - d2[j]).abs() < 1e-13);
+                assert!((ders[3][j] - d3[j]).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn partition_of_unity_and_derivatives_sum_to_zero() {
+        for i in 0..=200 {
+            let u = i as f64 / 200.0;
+            let span = find_span(3, &CLAMPED, u);
+            let mut ders = [[0.0; MAX_ORDER]; 5];
+            basis_function_derivatives(span, u, 3, 4, &CLAMPED, &mut ders);
+            let sums: Vec<f64> = (0..5).map(|k| ders[k][..4].iter().sum()).collect();
+            assert!((sums[0] - 1.0).abs() < 1e-14);
+            for k in 1..5 {
+                assert!(sums[k].abs() < 1e-9, "k={k} sum={}", sums[k]);
+            }
+            assert!(ders[4][..4].iter().all(|&d| d == 0.0));
+        }
+    }
+
+    #[test]
+    fn piegl_tiller_example_2_3() {
+        // The NURBS Book Ex. 2.3: U = {0,0,0,1,2,3,4,4,5,5,5}, p = 2, u = 5/2:
+        // N_{2,2} = 1/8, N_{3,2} = 6/8, N_{4,2} = 1/8.
+        let knots = [0.0, 0.0, 0.0, 1.0, 2.0, 3.0, 4.0, 4.0, 5.0, 5.0, 5.0];
+        let span = find_span(2, &knots, 2.5);
+        assert_eq!(span, 4);
+        let mut n = [0.0; 3];
+        basis_functions(span, 2.5, 2, &knots, &mut n);
+        assert!((n[0] - 0.125).abs() < 1e-15);
+        assert!((n[1] - 0.75).abs() < 1e-15);
+        assert!((n[2] - 0.125).abs() < 1e-15);
+    }
+}

@@ -1,0 +1,396 @@
+//! Rational B-spline (NURBS) curves in 3D (2D curves have z = 0): evaluation, first and
+//! second derivatives (Piegl & Tiller A4.1/A4.2), knot insertion (A5.1) and splitting.
+
+use crate::basis::{
+    basis_function_derivatives, basis_functions, find_span, validate_knot_vector, validate_weights,
+    MAX_ORDER,
+};
+use crate::vec3;
+use crate::NurbsError;
+
+/// A NURBS curve `C(u) = Σ N_{i,p}(u) w_i P_i / Σ N_{i,p}(u) w_i` on `[U_p, U_{n+1}]`.
+///
+/// The fields are public for readers (IGES, JSON); [`NurbsCurve::new`] validates them, and
+/// code that builds a curve field by field should call [`NurbsCurve::validate`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsCurve {
+    /// Polynomial degree `p ≥ 1`.
+    pub degree: usize,
+    /// Non-decreasing knots, `control_points.len() + degree + 1` of them.
+    pub knots: Vec<f64>,
+    /// Control points `P_i` (z = 0 for planar curves).
+    pub control_points: Vec<[f64; 3]>,
+    /// Weights `w_i > 0`, one per control point.
+    pub weights: Vec<f64>,
+}
+
+impl NurbsCurve {
+    /// A validated NURBS curve.
+    pub fn new(
+        degree: usize,
+        knots: Vec<f64>,
+        control_points: Vec<[f64; 3]>,
+        weights: Vec<f64>,
+    ) -> Result<Self, NurbsError> {
+        let curve = Self {
+            degree,
+            knots,
+            control_points,
+            weights,
+        };
+        curve.validate()?;
+        Ok(curve)
+    }
+
+    /// A validated polynomial B-spline curve (all weights 1).
+    pub fn non_rational(
+        degree: usize,
+        knots: Vec<f64>,
+        control_points: Vec<[f64; 3]>,
+    ) -> Result<Self, NurbsError> {
+        let weights = vec![1.0; control_points.len()];
+        Self::new(degree, knots, control_points, weights)
+    }
+
+    /// Checks degree, knot vector, weights and control points.
+    pub fn validate(&self) -> Result<(), NurbsError> {
+        validate_knot_vector(self.degree, &self.knots, self.control_points.len())?;
+        validate_weights(&self.weights, self.control_points.len())?;
+        for (index, p) in self.control_points.iter().enumerate() {
+            if !p.iter().all(|x| x.is_finite()) {
+                return Err(NurbsError::NonFiniteControlPoint { index });
+            }
+        }
+        Ok(())
+    }
+
+    /// Parameter domain `(U_p, U_{n+1})`.
+    pub fn domain(&self) -> (f64, f64) {
+        (
+            self.knots[self.degree],
+            self.knots[self.control_points.len()],
+        )
+    }
+
+    /// Diagonal of the control polygon's bounding box: the model size used for tolerances.
+    pub fn size(&self) -> f64 {
+        vec3::bounding_box_diagonal(&self.control_points)
+    }
+
+    /// Whether the curve ends where it starts (to 1e-12 of its size).
+    pub fn is_closed(&self) -> bool {
+        let (a, b) = self.domain();
+        vec3::distance(self.point(a), self.point(b)) <= 1e-12 * self.size().max(f64::MIN_POSITIVE)
+    }
+
+    /// The point `C(u)`; `u` outside the domain is evaluated on the end span (extrapolated).
+    pub fn point(&self, u: f64) -> [f64; 3] {
+        let p = self.degree;
+        let span = find_span(p, &self.knots, u);
+        let mut n = [0.0; MAX_ORDER];
+        basis_functions(span, u, p, &self.knots, &mut n);
+        let mut cw = [0.0; 4];
+        for j in 0..=p {
+            let i = span - p + j;
+            let w = n[j] * self.weights[i];
+            for d in 0..3 {
+                cw[d] += w * self.control_points[i][d];
+            }
+            cw[3] += w;
+        }
+        [cw[0] / cw[3], cw[1] / cw[3], cw[2] / cw[3]]
+    }
+
+    /// `[C(u), C'(u), C''(u)]`, computed up to order `order.min(2)`; higher entries are zero.
+    /// Rational derivatives by the quotient rule (A4.2).
+    pub fn derivatives(&self, u: f64, order: usize) -> [[f64; 3]; 3] {
+        let order = order.min(2);
+        let p = self.degree;
+        let span = find_span(p, &self.knots, u);
+        let mut ders = [[0.0; MAX_ORDER]; 3];
+        basis_function_derivatives(span, u, p, order, &self.knots, &mut ders);
+        // Homogeneous derivatives A^(k) = Σ N^(k) w P and w^(k) = Σ N^(k) w.
+        let mut a = [[0.0; 3]; 3];
+        let mut w = [0.0; 3];
+        for k in 0..=order {
+            for j in 0..=p {
+                let i = span - p + j;
+                let nw = ders[k][j] * self.weights[i];
+                for d in 0..3 {
+                    a[k][d] += nw * self.control_points[i][d];
+                }
+                w[k] += nw;
+            }
+        }
+        let mut c = [[0.0; 3]; 3];
+        for d in 0..3 {
+            c[0][d] = a[0][d] / w[0];
+            if order >= 1 {
+                c[1][d] = (a[1][d] - w[1] * c[0][d]) / w[0];
+            }
+            if order >= 2 {
+                c[2][d] = (a[2][d] - 2.0 * w[1] * c[1][d] - w[2] * c[0][d]) / w[0];
+            }
+        }
+        c
+    }
+
+    /// Multiplicity of the knot value `u` (exact comparison).
+    pub fn knot_multiplicity(&self, u: f64) -> usize {
+        self.knots.iter().filter(|&&k| k == u).count()
+    }
+
+    /// Distinct knot values inside the domain, including both ends, ascending: the breaks
+    /// between polynomial pieces.
+    pub fn breakpoints(&self) -> Vec<f64> {
+        let (a, b) = self.domain();
+        let mut out: Vec<f64> = vec![a];
+        for &k in &self.knots {
+            if k > *out.last().unwrap_or(&a) && k < b {
+                out.push(k);
+            }
+        }
+        out.push(b);
+        out
+    }
+
+    /// Interior knots of multiplicity ≥ degree: the parameters where the curve may have a
+    /// corner (it is only C⁰ there).
+    pub fn c0_parameters(&self) -> Vec<f64> {
+        let bp = self.breakpoints();
+        bp[1..bp.len() - 1]
+            .iter()
+            .copied()
+            .filter(|&u| self.knot_multiplicity(u) >= self.degree)
+            .collect()
+    }
+
+    /// The same curve with the knot `u` inserted `times` more times (A5.1). The multiplicity
+    /// after insertion may not exceed the degree; `u` must lie strictly inside the domain.
+    pub fn insert_knot(&self, u: f64, times: usize) -> Result<NurbsCurve, NurbsError> {
+        let (start, end) = self.domain();
+        if !(u > start && u < end) {
+            return Err(NurbsError::ParameterOutOfDomain {
+                param: u,
+                start,
+                end,
+            });
+        }
+        let p = self.degree;
+        let s = self.knot_multiplicity(u);
+        let r = times.min(p.saturating_sub(s));
+        if r == 0 {
+            return Ok(self.clone());
+        }
+        let np = self.control_points.len() - 1;
+        let mp = np + p + 1;
+        let k = find_span(p, &self.knots, u);
+        let pw: Vec<[f64; 4]> = self
+            .control_points
+            .iter()
+            .zip(&self.weights)
+            .map(|(x, &w)| [x[0] * w, x[1] * w, x[2] * w, w])
+            .collect();
+        let uk = &self.knots;
+        let mut knots = Vec::with_capacity(mp + r + 1);
+        knots.extend_from_slice(&uk[..=k]);
+        knots.extend(std::iter::repeat_n(u, r));
+        knots.extend_from_slice(&uk[k + 1..]);
+        let mut qw = vec![[0.0; 4]; np + r + 1];
+        qw[..=k - p].copy_from_slice(&pw[..=k - p]);
+        qw[k - s + r..=np + r].copy_from_slice(&pw[k - s..=np]);
+        let mut rw: Vec<[f64; 4]> = (0..=p - s).map(|i| pw[k - p + i]).collect();
+        let mut l = k - p;
+        for j in 1..=r {
+            l = k - p + j;
+            for i in 0..=p - j - s {
+                let alpha = (u - uk[l + i]) / (uk[i + k + 1] - uk[l + i]);
+                for d in 0..4 {
+                    rw[i][d] = alpha * rw[i + 1][d] + (1.0 - alpha) * rw[i][d];
+                }
+            }
+            qw[l] = rw[0];
+            qw[k + r - j - s] = rw[p - j - s];
+        }
+        if l + 1 < k - s {
+            qw[l + 1..k - s].copy_from_slice(&rw[1..k - s - l]);
+        }
+        let weights: Vec<f64> = qw.iter().map(|q| q[3]).collect();
+        let control_points = qw
+            .iter()
+            .map(|q| [q[0] / q[3], q[1] / q[3], q[2] / q[3]])
+            .collect();
+        Ok(NurbsCurve {
+            degree: p,
+            knots,
+            control_points,
+            weights,
+        })
+    }
+
+    /// Splits the curve at the interior parameter `u` into `[a, u]` and `[u, b]`, each keeping
+    /// its original parametrisation.
+    pub fn split_at(&self, u: f64) -> Result<(NurbsCurve, NurbsCurve), NurbsError> {
+        let p = self.degree;
+        let full = self.insert_knot(u, p)?;
+        // Last index of the knot u (multiplicity p now): the point at u is P_{k-p}.
+        let k = full.knots.iter().rposition(|&x| x == u).unwrap_or(p);
+        let left = NurbsCurve {
+            degree: p,
+            knots: full.knots[..=k].iter().copied().chain([u]).collect(),
+            control_points: full.control_points[..=k - p].to_vec(),
+            weights: full.weights[..=k - p].to_vec(),
+        };
+        let right = NurbsCurve {
+            degree: p,
+            knots: std::iter::once(u)
+                .chain(full.knots[k - p + 1..].iter().copied())
+                .collect(),
+            control_points: full.control_points[k - p..].to_vec(),
+            weights: full.weights[k - p..].to_vec(),
+        };
+        Ok((left, right))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rational cubic with a double knot and uneven weights.
+    fn wiggly() -> NurbsCurve {
+        NurbsCurve::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.6, 0.6, 1.0, 1.0, 1.0, 1.0],
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 2.0, 0.5],
+                [2.0, -1.0, 1.0],
+                [3.0, 0.5, 0.0],
+                [4.0, 2.0, -1.0],
+                [5.0, 0.0, 0.3],
+                [6.0, 1.0, 0.0],
+            ],
+            vec![1.0, 0.5, 2.0, 1.0, 0.7, 1.5, 1.0],
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn quadratic_bezier_matches_closed_form() {
+        let c = NurbsCurve::non_rational(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![[0.0, 0.0, 0.0], [1.0, 2.0, 0.0], [2.0, 0.0, 0.0]],
+        )
+        .unwrap();
+        // C(u) = (2u, 4u(1-u)), C' = (2, 4 - 8u), C'' = (0, -8).
+        for &u in &[0.0, 0.25, 0.5, 0.9, 1.0] {
+            let d = c.derivatives(u, 2);
+            assert!((d[0][0] - 2.0 * u).abs() < 1e-15);
+            assert!((d[0][1] - 4.0 * u * (1.0 - u)).abs() < 1e-15);
+            assert!((d[1][0] - 2.0).abs() < 1e-14);
+            assert!((d[1][1] - (4.0 - 8.0 * u)).abs() < 1e-14);
+            assert!((d[2][1] + 8.0).abs() < 1e-13);
+        }
+        assert!(!c.is_closed());
+        assert_eq!(c.domain(), (0.0, 1.0));
+    }
+
+    #[test]
+    fn rational_derivatives_match_finite_differences() {
+        // Fourth-order central differences f' ≈ (f(-2h) - 8 f(-h) + 8 f(h) - f(2h)) / 12h.
+        let c = wiggly();
+        let h = 1e-4;
+        let fd = |f: &dyn Fn(f64) -> [f64; 3], u: f64, k: usize| {
+            (f(u - 2.0 * h)[k] - 8.0 * f(u - h)[k] + 8.0 * f(u + h)[k] - f(u + 2.0 * h)[k])
+                / (12.0 * h)
+        };
+        let point = |u: f64| c.point(u);
+        let tangent = |u: f64| c.derivatives(u, 1)[1];
+        for i in 1..100 {
+            let u = i as f64 / 100.0;
+            if (u - 0.6).abs() < 3.0 * h || (u - 0.3).abs() < 3.0 * h {
+                // Differences across a knot see the jump of a higher derivative.
+                continue;
+            }
+            let d = c.derivatives(u, 2);
+            for k in 0..3 {
+                let (fd1, fd2) = (fd(&point, u, k), fd(&tangent, u, k));
+                assert!(
+                    (d[1][k] - fd1).abs() < 1e-7 * (1.0 + d[1][k].abs()),
+                    "u={u}"
+                );
+                assert!(
+                    (d[2][k] - fd2).abs() < 1e-7 * (1.0 + d[2][k].abs()),
+                    "u={u}"
+                );
+                assert_eq!(d[0][k], c.point(u)[k]);
+            }
+        }
+    }
+
+    #[test]
+    fn knot_insertion_leaves_the_curve_unchanged() {
+        let c = wiggly();
+        for &(u, times) in &[(0.1, 1), (0.3, 2), (0.6, 1), (0.45, 3), (0.6, 5)] {
+            let refined = c.insert_knot(u, times).unwrap();
+            refined.validate().unwrap();
+            let expected_added = times.min(3 - c.knot_multiplicity(u));
+            assert_eq!(refined.knots.len(), c.knots.len() + expected_added);
+            for i in 0..=500 {
+                let t = i as f64 / 500.0;
+                let (a, b) = (c.point(t), refined.point(t));
+                assert!(vec3::distance(a, b) < 1e-13, "u={u} t={t}");
+            }
+        }
+        assert!(c.insert_knot(1.0, 1).is_err());
+    }
+
+    #[test]
+    fn split_halves_reproduce_the_curve() {
+        let c = wiggly();
+        for &u in &[0.2, 0.3, 0.6, 0.81] {
+            let (left, right) = c.split_at(u).unwrap();
+            left.validate().unwrap();
+            right.validate().unwrap();
+            assert_eq!(left.domain(), (0.0, u));
+            assert_eq!(right.domain(), (u, 1.0));
+            for i in 0..=200 {
+                let t = i as f64 / 200.0;
+                let part = if t <= u { &left } else { &right };
+                assert!(vec3::distance(c.point(t), part.point(t)) < 1e-13);
+            }
+        }
+    }
+
+    #[test]
+    fn c0_parameters_are_knots_of_full_multiplicity() {
+        let c = wiggly();
+        assert!(c.c0_parameters().is_empty());
+        let corner = c.insert_knot(0.6, 1).unwrap();
+        assert_eq!(corner.c0_parameters(), vec![0.6]);
+        assert_eq!(c.breakpoints(), vec![0.0, 0.3, 0.6, 1.0]);
+    }
+
+    #[test]
+    fn invalid_curves_are_rejected() {
+        let err = NurbsCurve::new(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0],
+            vec![[0.0; 3]; 3],
+            vec![1.0; 3],
+        );
+        assert!(matches!(err, Err(NurbsError::KnotCount { .. })));
+        let err = NurbsCurve::new(
+            2,
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![[0.0; 3]; 3],
+            vec![1.0, -1.0, 1.0],
+        );
+        assert!(matches!(
+            err,
+            Err(NurbsError::NonPositiveWeight { index: 1, .. })
+        ));
+    }
+}

@@ -1,0 +1,343 @@
+//! IGES 5.3 input (fixed ASCII form): the parsing layer.
+//!
+//! [`parse_iges`] splits the file into its 80-column records (section letter in column 73,
+//! sequence number in columns 74–80), reads the Global section (delimiters, units, model
+//! scale, resolution), the Directory Entry pairs and the free-format Parameter Data of every
+//! entity (columns 1–64, back-pointer to the DE in columns 66–72; Hollerith strings `nH...`,
+//! reals with `E` or `D` exponents), and returns each entity as a typed record
+//! ([`EntityData`]). Nothing is evaluated here: converting the records to NURBS is a later
+//! step, which reports [`EntityData::Unsupported`] entities with their type and line.
+//!
+//! Every error names the 1-based line of the file and what was expected and found.
+
+mod entities;
+mod sections;
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+pub use entities::{BSplineCurveData, BSplineSurfaceData, EntityData};
+pub use sections::{parse_int, parse_real, DirectoryEntry, GlobalSection, Param, ParamValue};
+
+/// Errors of IGES reading. `line` is the 1-based line number in the file.
+#[derive(Debug, thiserror::Error)]
+pub enum IgesError {
+    #[error("cannot read IGES file {path}: {source}")]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    #[error("IGES line {line}: expected {expected}, found {found}")]
+    Syntax {
+        line: usize,
+        expected: String,
+        found: String,
+    },
+    #[error(
+        "IGES line {line}: bad section letter in column 73: expected {expected}, found {found:?}"
+    )]
+    Section {
+        line: usize,
+        expected: String,
+        found: char,
+    },
+    #[error("IGES line {line}: sequence number of the {section} section (columns 74-80): expected {expected}, found {found:?}")]
+    Sequence {
+        line: usize,
+        section: char,
+        expected: u32,
+        found: String,
+    },
+    #[error("IGES line {line}: parameter data back-pointer (columns 66-72): expected DE {expected}, found {found:?}")]
+    BackPointer {
+        line: usize,
+        expected: u32,
+        found: String,
+    },
+    #[error("IGES line {line}: entity type {entity_type} (DE {de}), parameter {index} ({name}): expected {expected}, found {found}")]
+    Parameter {
+        line: usize,
+        de: u32,
+        entity_type: i32,
+        /// 0-based index after the entity type number.
+        index: usize,
+        name: &'static str,
+        expected: &'static str,
+        found: String,
+    },
+}
+
+impl IgesError {
+    /// The 1-based file line the error is about (`None` for I/O errors).
+    pub fn line(&self) -> Option<usize> {
+        match self {
+            IgesError::Io { .. } => None,
+            IgesError::Syntax { line, .. }
+            | IgesError::Section { line, .. }
+            | IgesError::Sequence { line, .. }
+            | IgesError::BackPointer { line, .. }
+            | IgesError::Parameter { line, .. } => Some(*line),
+        }
+    }
+}
+
+/// One entity: its Directory Entry data and its typed parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IgesEntity {
+    /// DE sequence number of the entity's first Directory Entry record (odd); other
+    /// entities point to it with this number.
+    pub de: u32,
+    /// The typed parameter record.
+    pub kind: EntityData,
+    /// Form number (DE field 15).
+    pub form: i32,
+    /// DE pointer of the 124 transformation matrix applied to this entity, if any.
+    pub transform: Option<u32>,
+    /// 1-based file line of the first Directory Entry record.
+    pub line: usize,
+    /// 1-based file line of the first Parameter Data record.
+    pub parameter_line: usize,
+    /// All fixed Directory Entry fields.
+    pub directory: DirectoryEntry,
+}
+
+impl IgesEntity {
+    /// The IGES entity type number.
+    pub fn type_number(&self) -> i32 {
+        self.directory.entity_type
+    }
+
+    /// Whether the entity is physically dependent on another (status subordinate switch 1
+    /// or 3), e.g. the curves of a trimmed surface.
+    pub fn is_subordinate(&self) -> bool {
+        matches!(self.directory.status[1], 1 | 3)
+    }
+}
+
+/// A parsed IGES file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IgesModel {
+    /// The Start section text (columns 1–72 of each S record, right-trimmed).
+    pub start: Vec<String>,
+    pub global: GlobalSection,
+    /// All entities in Directory Entry order (entity `i` has DE number `2 i + 1`).
+    pub entities: Vec<IgesEntity>,
+}
+
+impl IgesModel {
+    /// The entity with DE sequence number `de`.
+    pub fn entity(&self, de: u32) -> Option<&IgesEntity> {
+        if de & 1 == 0 {
+            return None;
+        }
+        self.entities
+            .get((de as usize).checked_sub(1)? / 2)
+            .filter(|e| e.de == de)
+    }
+
+    /// The transformation of `entity` as `[R | T]` rows (`x' = R x + T`), composing the
+    /// chain of 124 matrices (a 124 may itself point to another 124, applied after it);
+    /// `None` when the entity has no transformation.
+    pub fn transform_of(&self, entity: &IgesEntity) -> Option<[[f64; 4]; 3]> {
+        let mut acc: Option<[[f64; 4]; 3]> = None;
+        let mut next = entity.transform;
+        let mut steps = 0;
+        while let Some(de) = next {
+            steps += 1;
+            if steps > self.entities.len() {
+                break; // cycles are rejected by the parser; never loop forever
+            }
+            let e = self.entity(de)?;
+            let EntityData::TransformationMatrix { matrix } = &e.kind else {
+                return None;
+            };
+            acc = Some(match acc {
+                None => *matrix,
+                Some(a) => compose(matrix, &a),
+            });
+            next = e.transform;
+        }
+        acc
+    }
+
+    /// Number of entities of each type.
+    pub fn histogram(&self) -> BTreeMap<i32, usize> {
+        let mut h = BTreeMap::new();
+        for e in &self.entities {
+            *h.entry(e.type_number()).or_insert(0) += 1;
+        }
+        h
+    }
+
+    /// The entities of one type.
+    pub fn entities_of_type(&self, type_number: i32) -> impl Iterator<Item = &IgesEntity> {
+        self.entities
+            .iter()
+            .filter(move |e| e.type_number() == type_number)
+    }
+}
+
+/// `a ∘ b`: apply `b` first, then `a`.
+fn compose(a: &[[f64; 4]; 3], b: &[[f64; 4]; 3]) -> [[f64; 4]; 3] {
+    let mut c = [[0.0; 4]; 3];
+    for i in 0..3 {
+        for j in 0..4 {
+            let mut s = if j == 3 { a[i][3] } else { 0.0 };
+            for k in 0..3 {
+                s += a[i][k] * b[k][j];
+            }
+            c[i][j] = s;
+        }
+    }
+    c
+}
+
+/// Reads and parses an IGES file.
+pub fn read_iges(path: impl AsRef<Path>) -> Result<IgesModel, IgesError> {
+    let path = path.as_ref();
+    let bytes = std::fs::read(path).map_err(|source| IgesError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    // non-ASCII bytes are reported with their line by the parser
+    parse_iges(&String::from_utf8_lossy(&bytes))
+}
+
+/// Parses the text of an IGES 5.3 file (fixed ASCII form).
+pub fn parse_iges(text: &str) -> Result<IgesModel, IgesError> {
+    let secs = sections::split_sections(text)?;
+    let global = sections::parse_global(&secs.global)?;
+    let directory = sections::parse_directory(&secs.directory)?;
+    let pdelim = global.parameter_delimiter as u8;
+    let rdelim = global.record_delimiter as u8;
+    let p = &secs.parameter;
+    let mut entities = Vec::with_capacity(directory.len());
+    let mut references = Vec::new();
+    for de in directory {
+        let first = de.parameter_pointer as usize;
+        let count = de.parameter_line_count as usize;
+        let p_end = p.len();
+        if first == 0 || count == 0 || first - 1 + count > p_end {
+            return Err(IgesError::Syntax {
+                line: de.line,
+                expected: format!(
+                    "entity type {} (DE {}): parameter data records {}..{} (pointer, line count)",
+                    de.entity_type,
+                    de.de,
+                    first,
+                    (first + count).saturating_sub(1)
+                ),
+                found: format!("a Parameter Data section of {p_end} records"),
+            });
+        }
+        let records = &p[first - 1..first - 1 + count];
+        for r in records {
+            let back = r.cols(66, 72);
+            if back.trim().parse::<u32>().ok() != Some(de.de) {
+                return Err(IgesError::BackPointer {
+                    line: r.line,
+                    expected: de.de,
+                    found: back.to_string(),
+                });
+            }
+        }
+        let stream = sections::Stream::from_records(records, 1, 64);
+        let what = format!("entity type {} (DE {})", de.entity_type, de.de);
+        let params = sections::tokenize(&stream, 0, pdelim, rdelim, &what)?;
+        let end_line = records[count - 1].line;
+        let type_param = &params[0];
+        if type_param.as_int() != Some(de.entity_type as i64)
+            || type_param.value == ParamValue::Empty
+        {
+            return Err(IgesError::Parameter {
+                line: type_param.line,
+                de: de.de,
+                entity_type: de.entity_type,
+                index: 0,
+                name: "entity type number",
+                expected: "the entity type of the Directory Entry",
+                found: type_param.describe(),
+            });
+        }
+        let mut reader = entities::Reader::new(&params[1..], de.de, de.entity_type, end_line);
+        let kind = entities::parse_entity(de.entity_type, &mut reader)?;
+        references.extend(reader.refs.iter().map(|r| (*r, de.de, de.entity_type)));
+        entities.push(IgesEntity {
+            de: de.de,
+            kind,
+            form: de.form,
+            transform: (de.transform != 0).then_some(de.transform),
+            line: de.line,
+            parameter_line: records[0].line,
+            directory: de,
+        });
+    }
+    let start = secs
+        .start
+        .iter()
+        .map(|r| r.cols(1, 72).trim_end().to_string())
+        .collect();
+    let model = IgesModel {
+        start,
+        global,
+        entities,
+    };
+    validate(&model, &references)?;
+    Ok(model)
+}
+
+/// Checks pointers: parameters point to existing entities, transformation pointers to 124
+/// entities without cycles.
+fn validate(
+    model: &IgesModel,
+    references: &[(entities::Reference, u32, i32)],
+) -> Result<(), IgesError> {
+    for (r, de, entity_type) in references {
+        if model.entity(r.pointer).is_none() {
+            return Err(IgesError::Parameter {
+                line: r.line,
+                de: *de,
+                entity_type: *entity_type,
+                index: r.index,
+                name: r.name,
+                expected: "a pointer to an existing Directory Entry (odd, in range)",
+                found: r.pointer.to_string(),
+            });
+        }
+    }
+    for e in &model.entities {
+        let mut next = e.transform;
+        let mut steps = 0;
+        while let Some(t) = next {
+            let target = model.entity(t);
+            let ok = matches!(
+                target.map(|x| &x.kind),
+                Some(EntityData::TransformationMatrix { .. })
+            );
+            if !ok || steps > model.entities.len() {
+                return Err(IgesError::Syntax {
+                    line: e.line,
+                    expected: format!(
+                        "DE {} field 7: a chain of pointers to 124 transformation matrices",
+                        e.de
+                    ),
+                    found: if ok {
+                        "a cycle".to_string()
+                    } else {
+                        match target {
+                            Some(x) => format!("DE {t} of entity type {}", x.type_number()),
+                            None => format!("DE {t}, which does not exist"),
+                        }
+                    },
+                });
+            }
+            steps += 1;
+            next = target.and_then(|x| x.transform);
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests;

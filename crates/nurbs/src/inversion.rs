@@ -1,0 +1,393 @@
+//! Point inversion (Piegl & Tiller Sect. 6.1, the paper's "point inversion algorithm"): the
+//! parameter of the point of a curve or surface closest to a given point. Starts are the best
+//! of a few samples per knot span; Newton's method on the squared distance follows, with a
+//! backtracking line search, parameters clamped to the domain (wrapped across the seam of a
+//! closed curve or surface) and, where ∂S/∂u or ∂S/∂v vanishes (a pole), steps in the
+//! non-degenerate direction only. Iterations stop when a step moves the point by less than
+//! 1e-12 of the model size.
+
+use crate::shapes::ClosestPoint;
+use crate::vec3::{dot, norm, sub};
+use crate::{NurbsCurve, NurbsSurface};
+
+/// Relative tolerance (of the model size) on the closest point.
+pub const RELATIVE_TOLERANCE: f64 = 1e-12;
+/// Newton starts tried from the best samples.
+const STARTS: usize = 3;
+/// Newton stops after a step shorter than this (relative to the model size); by quadratic
+/// convergence the point is then far more accurate than [`RELATIVE_TOLERANCE`].
+const STEP_TOLERANCE: f64 = 1e-3 * RELATIVE_TOLERANCE;
+const MAX_ITERATIONS: usize = 100;
+
+/// How a parameter leaves its interval: clamped, or wrapped for a closed direction.
+#[derive(Clone, Copy)]
+struct Range {
+    start: f64,
+    end: f64,
+    periodic: bool,
+}
+
+impl Range {
+    fn fit(self, t: f64) -> f64 {
+        if self.periodic {
+            self.start + (t - self.start).rem_euclid(self.end - self.start)
+        } else {
+            t.clamp(self.start, self.end)
+        }
+    }
+}
+
+/// `count` samples per knot span, plus the domain end.
+fn samples(breakpoints: &[f64], count: usize) -> Vec<f64> {
+    let mut out = Vec::new();
+    for w in breakpoints.windows(2) {
+        for i in 0..count {
+            out.push(w[0] + (w[1] - w[0]) * i as f64 / count as f64);
+        }
+    }
+    out.extend(breakpoints.last());
+    out
+}
+
+/// Whether a trial point is better: a smaller half squared distance `g`, or, where `g` is flat
+/// to round-off (the evaluated point carries an absolute error ~ ε · size, so `g` one of
+/// ~ ε · size · |r|), a smaller gradient.
+fn accept(g_new: f64, g: f64, grad_new: f64, grad: f64, size: f64) -> bool {
+    let noise = 16.0 * f64::EPSILON * (g + (2.0 * g).sqrt() * size) + f64::MIN_POSITIVE;
+    g_new < g || (g_new <= g + noise && grad_new < grad)
+}
+
+/// The point of `curve` closest to `x`, from sampled starts.
+pub fn closest_point_on_curve(curve: &NurbsCurve, x: [f64; 3]) -> ClosestPoint<f64> {
+    let starts = samples(&curve.breakpoints(), 2 * curve.degree + 2);
+    let mut scored: Vec<(f64, f64)> = starts
+        .iter()
+        .map(|&u| (norm(sub(curve.point(u), x)), u))
+        .collect();
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best: Option<ClosestPoint<f64>> = None;
+    for &(_, u) in scored.iter().take(STARTS) {
+        let candidate = closest_point_on_curve_near(curve, x, u);
+        if best.is_none_or(|b| candidate.distance < b.distance) {
+            best = Some(candidate);
+        }
+    }
+    best.unwrap_or_else(|| closest_point_on_curve_near(curve, x, curve.domain().0))
+}
+
+/// Newton from the start parameter `guess` (a local minimum of the distance near it).
+pub fn closest_point_on_curve_near(
+    curve: &NurbsCurve,
+    x: [f64; 3],
+    guess: f64,
+) -> ClosestPoint<f64> {
+    let (start, end) = curve.domain();
+    let range = Range {
+        start,
+        end,
+        periodic: curve.is_closed(),
+    };
+    let size = curve.size().max(f64::MIN_POSITIVE);
+    let tol = STEP_TOLERANCE * size;
+    let mut u = range.fit(guess);
+    let mut d = curve.derivatives(u, 2);
+    let mut r = sub(d[0], x);
+    let mut g = 0.5 * dot(r, r);
+    for _ in 0..MAX_ITERATIONS {
+        let f = dot(d[1], r);
+        let speed2 = dot(d[1], d[1]);
+        let fp = dot(d[2], r) + speed2;
+        let step = if fp > 0.0 {
+            -f / fp
+        } else if speed2 > 0.0 {
+            -f / speed2
+        } else {
+            break;
+        };
+        let mut lambda = 1.0;
+        let mut moved = false;
+        while lambda > 1e-12 {
+            let un = range.fit(u + lambda * step);
+            let dn = curve.derivatives(un, 2);
+            let rn = sub(dn[0], x);
+            let gn = 0.5 * dot(rn, rn);
+            if accept(gn, g, dot(dn[1], rn).abs(), f.abs(), size) {
+                let movement = norm(sub(dn[0], d[0]));
+                (u, d, r, g) = (un, dn, rn, gn);
+                moved = movement > tol;
+                break;
+            }
+            lambda *= 0.5;
+        }
+        if !moved {
+            break;
+        }
+    }
+    ClosestPoint {
+        param: u,
+        point: d[0],
+        distance: norm(r),
+    }
+}
+
+/// The point of `surface` closest to `x`, from sampled starts.
+pub fn closest_point_on_surface(surface: &NurbsSurface, x: [f64; 3]) -> ClosestPoint<[f64; 2]> {
+    let su = samples(
+        &breakpoints(&surface.knots_u, surface.degree_u),
+        surface.degree_u + 2,
+    );
+    let sv = samples(
+        &breakpoints(&surface.knots_v, surface.degree_v),
+        surface.degree_v + 2,
+    );
+    let mut scored = Vec::with_capacity(su.len() * sv.len());
+    for &u in &su {
+        for &v in &sv {
+            scored.push((norm(sub(surface.point(u, v), x)), [u, v]));
+        }
+    }
+    scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut best: Option<ClosestPoint<[f64; 2]>> = None;
+    // Distinct start points only: at a pole a whole row of samples is one point.
+    let separation = 1e-9 * surface.size();
+    let mut taken: Vec<[f64; 3]> = Vec::new();
+    for &(_, uv) in &scored {
+        if taken.len() > STARTS {
+            break;
+        }
+        let p = surface.point(uv[0], uv[1]);
+        if taken.iter().any(|&q| norm(sub(p, q)) <= separation) {
+            continue;
+        }
+        taken.push(p);
+        let candidate = closest_point_on_surface_near(surface, x, uv);
+        if best.is_none_or(|b| candidate.distance < b.distance) {
+            best = Some(candidate);
+        }
+    }
+    let ((u0, _), (v0, _)) = surface.domain();
+    best.unwrap_or_else(|| closest_point_on_surface_near(surface, x, [u0, v0]))
+}
+
+fn breakpoints(knots: &[f64], degree: usize) -> Vec<f64> {
+    let n = knots.len() - degree - 1;
+    let (a, b) = (knots[degree], knots[n]);
+    let mut out = vec![a];
+    for &k in knots {
+        if k > *out.last().unwrap_or(&a) && k < b {
+            out.push(k);
+        }
+    }
+    out.push(b);
+    out
+}
+
+/// Newton from the start parameters `guess` (a local minimum of the distance near it).
+pub fn closest_point_on_surface_near(
+    surface: &NurbsSurface,
+    x: [f64; 3],
+    guess: [f64; 2],
+) -> ClosestPoint<[f64; 2]> {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let range_u = Range {
+        start: u0,
+        end: u1,
+        periodic: surface.is_closed_u(),
+    };
+    let range_v = Range {
+        start: v0,
+        end: v1,
+        periodic: surface.is_closed_v(),
+    };
+    let size = surface.size().max(f64::MIN_POSITIVE);
+    let tol = STEP_TOLERANCE * size;
+    let mut uv = [range_u.fit(guess[0]), range_v.fit(guess[1])];
+    let mut d = surface.derivatives(uv[0], uv[1]);
+    let mut r = sub(d.point, x);
+    let mut g = 0.5 * dot(r, r);
+    for _ in 0..MAX_ITERATIONS {
+        let grad = [dot(d.du, r), dot(d.dv, r)];
+        let (guu, guv, gvv) = (dot(d.du, d.du), dot(d.du, d.dv), dot(d.dv, d.dv));
+        let h = [
+            [guu + dot(d.duu, r), guv + dot(d.duv, r)],
+            [guv + dot(d.duv, r), gvv + dot(d.dvv, r)],
+        ];
+        let scale_h = guu.max(gvv);
+        let step = solve_pd(h, grad, scale_h)
+            // Not convex here: Gauss–Newton (first fundamental form).
+            .or_else(|| solve_pd([[guu, guv], [guv, gvv]], grad, scale_h))
+            // A pole: move in the non-degenerate direction only.
+            .or_else(|| {
+                if gvv > guu && gvv > 0.0 {
+                    Some([0.0, -grad[1] / gvv])
+                } else if guu > 0.0 {
+                    Some([-grad[0] / guu, 0.0])
+                } else {
+                    None
+                }
+            });
+        let Some(step) = step else { break };
+        let grad_norm = grad[0].hypot(grad[1]);
+        let mut lambda = 1.0;
+        let mut moved = false;
+        while lambda > 1e-12 {
+            let un = [
+                range_u.fit(uv[0] + lambda * step[0]),
+                range_v.fit(uv[1] + lambda * step[1]),
+            ];
+            let dn = surface.derivatives(un[0], un[1]);
+            let rn = sub(dn.point, x);
+            let gn = 0.5 * dot(rn, rn);
+            if accept(gn, g, dot(dn.du, rn).hypot(dot(dn.dv, rn)), grad_norm, size) {
+                let movement = norm(sub(dn.point, d.point));
+                (uv, d, r, g) = (un, dn, rn, gn);
+                moved = movement > tol;
+                break;
+            }
+            lambda *= 0.5;
+        }
+        if !moved {
+            break;
+        }
+    }
+    ClosestPoint {
+        param: uv,
+        point: d.point,
+        distance: norm(r),
+    }
+}
+
+/// Solves `h s = -grad` if `h` is safely positive definite.
+fn solve_pd(h: [[f64; 2]; 2], grad: [f64; 2], scale: f64) -> Option<[f64; 2]> {
+    let det = h[0][0] * h[1][1] - h[0][1] * h[1][0];
+    if h[0][0] > 0.0 && h[1][1] > 0.0 && det > 1e-12 * scale * scale {
+        Some([
+            -(h[1][1] * grad[0] - h[0][1] * grad[1]) / det,
+            -(h[0][0] * grad[1] - h[1][0] * grad[0]) / det,
+        ])
+    } else {
+        None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::{circle, sphere, torus, AnalyticShape};
+    use crate::vec3::distance;
+
+    fn lcg(state: &mut u64) -> f64 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn curve_round_trip() {
+        let c = NurbsCurve::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.6, 1.0, 1.0, 1.0, 1.0],
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 2.0, 0.5],
+                [2.0, -1.0, 1.0],
+                [3.0, 0.5, 0.0],
+                [4.0, 2.0, -1.0],
+                [5.0, 0.0, 0.3],
+            ],
+            vec![1.0, 0.5, 2.0, 1.0, 0.7, 1.0],
+        )
+        .unwrap();
+        for i in 0..=200 {
+            let u = i as f64 / 200.0;
+            let cp = closest_point_on_curve(&c, c.point(u));
+            assert!((cp.param - u).abs() < 1e-12, "u={u}: {}", cp.param);
+            assert!(cp.distance < 1e-12);
+        }
+        // Beyond the end: the end point.
+        let cp = closest_point_on_curve(&c, [20.0, 0.0, 0.3]);
+        assert_eq!(cp.param, 1.0);
+    }
+
+    #[test]
+    fn circle_projection_is_radial_and_wraps_the_seam() {
+        let c = circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap();
+        let analytic = AnalyticShape::new_circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap();
+        let mut seed = 3;
+        for _ in 0..500 {
+            let x = [
+                4.0 * lcg(&mut seed) - 2.0,
+                4.0 * lcg(&mut seed) - 2.0,
+                lcg(&mut seed),
+            ];
+            let cp = closest_point_on_curve(&c, x);
+            let exact = analytic.closest_point(x);
+            assert!(
+                distance(cp.point, exact.point) < 1e-12,
+                "{x:?} {cp:?} {exact:?}"
+            );
+            assert!((cp.distance - exact.distance).abs() < 1e-12);
+        }
+        // Just below the seam at (1, 0): a start at u = 0.02 must wrap to u ≈ 1.
+        let cp = closest_point_on_curve_near(&c, [2.0, -0.01, 0.0], 0.02);
+        assert!(distance(cp.point, analytic.closest_point([2.0, -0.01, 0.0]).point) < 1e-12);
+        assert!(cp.param > 0.99);
+    }
+
+    #[test]
+    fn sphere_round_trip_and_exact_projection() {
+        let s = sphere([0.5, -1.0, 2.0], 3.0).unwrap();
+        let analytic = AnalyticShape::new_sphere([0.5, -1.0, 2.0], 3.0).unwrap();
+        let mut seed = 11;
+        for _ in 0..500 {
+            // Away from poles and seam.
+            let (u, v) = (0.02 + 0.96 * lcg(&mut seed), 0.05 + 0.9 * lcg(&mut seed));
+            let cp = closest_point_on_surface(&s, s.point(u, v));
+            assert!((cp.param[0] - u).abs() < 1e-12 && (cp.param[1] - v).abs() < 1e-12);
+            // Off the surface, anywhere (poles and seam included).
+            let x = [
+                0.5 + 10.0 * lcg(&mut seed) - 5.0,
+                -1.0 + 10.0 * lcg(&mut seed) - 5.0,
+                2.0 + 10.0 * lcg(&mut seed) - 5.0,
+            ];
+            let cp = closest_point_on_surface(&s, x);
+            let exact = analytic.closest_point(x);
+            assert!(
+                distance(cp.point, exact.point) < 1e-12 * 3.0,
+                "{x:?} {cp:?} {exact:?}"
+            );
+            assert!((cp.distance - exact.distance).abs() < 1e-12 * 3.0);
+        }
+        // Right above the north pole.
+        let cp = closest_point_on_surface(&s, [0.5, -1.0, 7.0]);
+        assert!(distance(cp.point, [0.5, -1.0, 5.0]) < 1e-12);
+    }
+
+    #[test]
+    fn torus_round_trip_and_exact_projection() {
+        let axis = [1.0, 1.0, 0.0];
+        let t = torus([0.0, 1.0, 0.0], axis, 2.0, 0.5).unwrap();
+        let analytic = AnalyticShape::new_torus([0.0, 1.0, 0.0], axis, 2.0, 0.5).unwrap();
+        let mut seed = 5;
+        for _ in 0..300 {
+            let (u, v) = (0.02 + 0.96 * lcg(&mut seed), 0.02 + 0.96 * lcg(&mut seed));
+            let cp = closest_point_on_surface(&t, t.point(u, v));
+            assert!((cp.param[0] - u).abs() < 1e-12 && (cp.param[1] - v).abs() < 1e-12);
+            // Within the tube's reach (closest point unique), in a box around the torus.
+            let x = [
+                6.0 * lcg(&mut seed) - 3.0,
+                1.0 + 6.0 * lcg(&mut seed) - 3.0,
+                6.0 * lcg(&mut seed) - 3.0,
+            ];
+            let exact = analytic.closest_point(x);
+            let cp = closest_point_on_surface(&t, x);
+            assert!(
+                distance(cp.point, exact.point) < 1e-11,
+                "{x:?} {}",
+                distance(cp.point, exact.point)
+            );
+            assert!((cp.distance - exact.distance).abs() < 1e-11);
+        }
+    }
+}

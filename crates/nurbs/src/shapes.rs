@@ -1,0 +1,488 @@
+//! Exact rational NURBS of circles, spheres, cylinders and tori (Piegl & Tiller Ch. 7–8:
+//! the nine-point quadratic circle and surfaces of revolution), and the same shapes as
+//! [`AnalyticShape`]s with closed-form closest points (the fast path for point projection).
+//!
+//! Parametrisations of the NURBS: the circle runs once around, counter-clockwise about its
+//! normal, for u ∈ [0, 1], starting on the frame's first axis ([`orthonormal_frame`]). Surfaces
+//! of revolution have u around the axis (that circle) and v along the profile; the sphere's
+//! profile runs from the south pole (v = 0) to the north pole (v = 1), so its edges v = 0 and
+//! v = 1 are poles.
+
+use crate::vec3::{self, add, cross, dot, norm, scale, sub};
+use crate::{NurbsCurve, NurbsError, NurbsSurface};
+use std::f64::consts::{FRAC_1_SQRT_2, PI};
+
+/// Knots of the nine-point full circle.
+const CIRCLE_KNOTS: [f64; 12] = [
+    0.0, 0.0, 0.0, 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1.0, 1.0, 1.0,
+];
+/// Control points (x, y) of the unit circle: the corners of the square [-1, 1]².
+const UNIT_CIRCLE: [[f64; 2]; 9] = [
+    [1.0, 0.0],
+    [1.0, 1.0],
+    [0.0, 1.0],
+    [-1.0, 1.0],
+    [-1.0, 0.0],
+    [-1.0, -1.0],
+    [0.0, -1.0],
+    [1.0, -1.0],
+    [1.0, 0.0],
+];
+
+fn circle_weight(i: usize) -> f64 {
+    if i.is_multiple_of(2) {
+        1.0
+    } else {
+        FRAC_1_SQRT_2
+    }
+}
+
+/// A right-handed orthonormal frame `(e1, e2, a)` with `a = axis / |axis|`; for the z axis it
+/// is `(x, y, z)`.
+pub fn orthonormal_frame(axis: [f64; 3]) -> Result<[[f64; 3]; 3], NurbsError> {
+    let length = norm(axis);
+    if !(length.is_finite() && length > 0.0) {
+        return Err(NurbsError::InvalidShape {
+            shape: "axis",
+            reason: format!("axis {axis:?} has no direction"),
+        });
+    }
+    let a = scale(axis, 1.0 / length);
+    // Helper: the coordinate axis least aligned with a.
+    let mut helper = [0.0; 3];
+    let mut best = 0;
+    for d in 1..3 {
+        if a[d].abs() < a[best].abs() {
+            best = d;
+        }
+    }
+    helper[best] = 1.0;
+    let e1 = sub(helper, scale(a, dot(helper, a)));
+    let e1 = scale(e1, 1.0 / norm(e1));
+    let e2 = cross(a, e1);
+    Ok([e1, e2, a])
+}
+
+fn check_radius(shape: &'static str, name: &str, r: f64) -> Result<(), NurbsError> {
+    if r.is_finite() && r > 0.0 {
+        Ok(())
+    } else {
+        Err(NurbsError::InvalidShape {
+            shape,
+            reason: format!("{name} must be finite and > 0, got {r}"),
+        })
+    }
+}
+
+/// The full circle of `radius` about `center` in the plane normal to `normal`: degree 2,
+/// nine control points, weights 1 and √2/2.
+pub fn circle(center: [f64; 3], normal: [f64; 3], radius: f64) -> Result<NurbsCurve, NurbsError> {
+    check_radius("circle", "radius", radius)?;
+    let [e1, e2, _] = orthonormal_frame(normal)?;
+    let control_points = UNIT_CIRCLE
+        .iter()
+        .map(|c| add(center, scale(add(scale(e1, c[0]), scale(e2, c[1])), radius)))
+        .collect();
+    let weights = (0..9).map(circle_weight).collect();
+    NurbsCurve::new(2, CIRCLE_KNOTS.to_vec(), control_points, weights)
+}
+
+/// Surface of revolution of a profile given in the meridian half-plane as `(ρ, ζ)`
+/// (distance from the axis, height along it), with its weights and knots, about the axis
+/// through `center` with direction `axis` (A8.1 with a full turn).
+fn revolve(
+    center: [f64; 3],
+    axis: [f64; 3],
+    profile_degree: usize,
+    profile_knots: &[f64],
+    profile: &[[f64; 2]],
+    profile_weights: &[f64],
+) -> Result<NurbsSurface, NurbsError> {
+    let [e1, e2, a] = orthonormal_frame(axis)?;
+    let mut control_points = Vec::with_capacity(9 * profile.len());
+    let mut weights = Vec::with_capacity(9 * profile.len());
+    for (i, c) in UNIT_CIRCLE.iter().enumerate() {
+        let radial = add(scale(e1, c[0]), scale(e2, c[1]));
+        for (pr, &wp) in profile.iter().zip(profile_weights) {
+            control_points.push(add(center, add(scale(radial, pr[0]), scale(a, pr[1]))));
+            weights.push(circle_weight(i) * wp);
+        }
+    }
+    NurbsSurface::new(
+        2,
+        profile_degree,
+        CIRCLE_KNOTS.to_vec(),
+        profile_knots.to_vec(),
+        control_points,
+        weights,
+    )
+}
+
+/// The sphere of `radius` about `center`, axis z: u ∈ [0, 1] around the axis, v ∈ [0, 1]
+/// from the south pole to the north pole (both poles are degenerate edges).
+pub fn sphere(center: [f64; 3], radius: f64) -> Result<NurbsSurface, NurbsError> {
+    check_radius("sphere", "radius", radius)?;
+    let r = radius;
+    revolve(
+        center,
+        [0.0, 0.0, 1.0],
+        2,
+        &[0.0, 0.0, 0.0, 0.5, 0.5, 1.0, 1.0, 1.0],
+        &[[0.0, -r], [r, -r], [r, 0.0], [r, r], [0.0, r]],
+        &[1.0, FRAC_1_SQRT_2, 1.0, FRAC_1_SQRT_2, 1.0],
+    )
+}
+
+/// The piece `axial_range.0 ≤ t ≤ axial_range.1` of the cylinder of `radius` whose axis passes
+/// through `point` with direction `axis`; v ∈ [0, 1] is linear in t.
+pub fn cylinder(
+    point: [f64; 3],
+    axis: [f64; 3],
+    radius: f64,
+    axial_range: (f64, f64),
+) -> Result<NurbsSurface, NurbsError> {
+    check_radius("cylinder", "radius", radius)?;
+    let (t0, t1) = axial_range;
+    if !(t0.is_finite() && t1.is_finite() && t0 < t1) {
+        return Err(NurbsError::InvalidShape {
+            shape: "cylinder",
+            reason: format!("axial range [{t0}, {t1}] is empty"),
+        });
+    }
+    revolve(
+        point,
+        axis,
+        1,
+        &[0.0, 0.0, 1.0, 1.0],
+        &[[radius, t0], [radius, t1]],
+        &[1.0, 1.0],
+    )
+}
+
+/// The torus about `center` and `axis` with distance `major_radius` from the axis to the tube
+/// centre and tube radius `minor_radius < major_radius`; v ∈ [0, 1] goes once around the tube,
+/// starting on the outer equator.
+pub fn torus(
+    center: [f64; 3],
+    axis: [f64; 3],
+    major_radius: f64,
+    minor_radius: f64,
+) -> Result<NurbsSurface, NurbsError> {
+    check_radius("torus", "major_radius", major_radius)?;
+    check_radius("torus", "minor_radius", minor_radius)?;
+    if minor_radius >= major_radius {
+        return Err(NurbsError::InvalidShape {
+            shape: "torus",
+            reason: format!(
+                "minor_radius {minor_radius} must be below major_radius {major_radius}"
+            ),
+        });
+    }
+    let profile: Vec<[f64; 2]> = UNIT_CIRCLE
+        .iter()
+        .map(|c| [major_radius + minor_radius * c[0], minor_radius * c[1]])
+        .collect();
+    let weights: Vec<f64> = (0..9).map(circle_weight).collect();
+    revolve(center, axis, 2, &CIRCLE_KNOTS, &profile, &weights)
+}
+
+/// A shape with a closed-form closest point. Axes are stored normalised.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum AnalyticShape {
+    /// Circle in the plane through `center` normal to `normal`.
+    Circle {
+        center: [f64; 3],
+        normal: [f64; 3],
+        radius: f64,
+    },
+    /// Sphere.
+    Sphere { center: [f64; 3], radius: f64 },
+    /// Infinite circular cylinder about the line through `point` along `axis`.
+    Cylinder {
+        point: [f64; 3],
+        axis: [f64; 3],
+        radius: f64,
+    },
+    /// Torus: tube of `minor_radius` around the circle of `major_radius` about `axis`.
+    Torus {
+        center: [f64; 3],
+        axis: [f64; 3],
+        major_radius: f64,
+        minor_radius: f64,
+    },
+}
+
+/// The result of a closest-point query.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ClosestPoint<P> {
+    /// Parameter of the closest point.
+    pub param: P,
+    /// The closest point.
+    pub point: [f64; 3],
+    /// Distance from the query point to `point`.
+    pub distance: f64,
+}
+
+impl AnalyticShape {
+    /// Validates the sizes and normalises the axis.
+    pub fn new_circle(center: [f64; 3], normal: [f64; 3], radius: f64) -> Result<Self, NurbsError> {
+        check_radius("circle", "radius", radius)?;
+        let normal = orthonormal_frame(normal)?[2];
+        Ok(Self::Circle {
+            center,
+            normal,
+            radius,
+        })
+    }
+
+    /// Validates the radius.
+    pub fn new_sphere(center: [f64; 3], radius: f64) -> Result<Self, NurbsError> {
+        check_radius("sphere", "radius", radius)?;
+        Ok(Self::Sphere { center, radius })
+    }
+
+    /// Validates the radius and normalises the axis.
+    pub fn new_cylinder(point: [f64; 3], axis: [f64; 3], radius: f64) -> Result<Self, NurbsError> {
+        check_radius("cylinder", "radius", radius)?;
+        let axis = orthonormal_frame(axis)?[2];
+        Ok(Self::Cylinder {
+            point,
+            axis,
+            radius,
+        })
+    }
+
+    /// Validates the radii (`0 < minor < major`) and normalises the axis.
+    pub fn new_torus(
+        center: [f64; 3],
+        axis: [f64; 3],
+        major_radius: f64,
+        minor_radius: f64,
+    ) -> Result<Self, NurbsError> {
+        torus(center, axis, major_radius, minor_radius)?;
+        let axis = orthonormal_frame(axis)?[2];
+        Ok(Self::Torus {
+            center,
+            axis,
+            major_radius,
+            minor_radius,
+        })
+    }
+
+    /// The closest point to `x` in closed form. The parameter is in angles, with the frame of
+    /// [`orthonormal_frame`] of the axis (normal): circle `[θ, 0]`; sphere `[θ, φ]` (longitude
+    /// about z, latitude in [-π/2, π/2]); cylinder `[θ, t]` (t the axial coordinate from
+    /// `point`); torus `[θ, φ]` (φ the angle around the tube, 0 on the outer equator). θ lies in
+    /// [0, 2π). Where the closest point is not unique (x on the axis, at the centre), one of
+    /// them is returned.
+    pub fn closest_point(&self, x: [f64; 3]) -> ClosestPoint<[f64; 2]> {
+        match *self {
+            Self::Circle {
+                center,
+                normal,
+                radius,
+            } => {
+                let [e1, e2, n] = frame(normal);
+                let d = sub(x, center);
+                let radial = sub(d, scale(n, dot(d, n)));
+                let (dir, theta) = direction_in_plane(radial, e1, e2);
+                let point = add(center, scale(dir, radius));
+                closest([theta, 0.0], point, x)
+            }
+            Self::Sphere { center, radius } => {
+                let d = sub(x, center);
+                let r = norm(d);
+                let dir = if r > 0.0 {
+                    scale(d, 1.0 / r)
+                } else {
+                    [1.0, 0.0, 0.0]
+                };
+                let point = add(center, scale(dir, radius));
+                let theta = wrap_angle(dir[1].atan2(dir[0]));
+                let phi = dir[2].clamp(-1.0, 1.0).asin();
+                closest([theta, phi], point, x)
+            }
+            Self::Cylinder {
+                point: p0,
+                axis,
+                radius,
+            } => {
+                let [e1, e2, a] = frame(axis);
+                let d = sub(x, p0);
+                let t = dot(d, a);
+                let (dir, theta) = direction_in_plane(sub(d, scale(a, t)), e1, e2);
+                let point = add(add(p0, scale(a, t)), scale(dir, radius));
+                closest([theta, t], point, x)
+            }
+            Self::Torus {
+                center,
+                axis,
+                major_radius,
+                minor_radius,
+            } => {
+                let [e1, e2, a] = frame(axis);
+                let d = sub(x, center);
+                let t = dot(d, a);
+                let radial = sub(d, scale(a, t));
+                let (dir, theta) = direction_in_plane(radial, e1, e2);
+                // Closest point of the tube's centre circle, then of the tube around it.
+                let ring = add(center, scale(dir, major_radius));
+                let (rho, z) = (dot(radial, dir) - major_radius, t);
+                let len = rho.hypot(z);
+                let (c, s) = if len > 0.0 {
+                    (rho / len, z / len)
+                } else {
+                    (1.0, 0.0)
+                };
+                let point = add(
+                    ring,
+                    add(scale(dir, minor_radius * c), scale(a, minor_radius * s)),
+                );
+                closest([theta, wrap_angle(s.atan2(c))], point, x)
+            }
+        }
+    }
+}
+
+fn frame(axis: [f64; 3]) -> [[f64; 3]; 3] {
+    // Axes were validated on construction; a degenerate one falls back to z.
+    orthonormal_frame(axis).unwrap_or([[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+}
+
+/// Unit direction of `v` (in the plane spanned by e1, e2) and its angle from e1.
+fn direction_in_plane(v: [f64; 3], e1: [f64; 3], e2: [f64; 3]) -> ([f64; 3], f64) {
+    let (x, y) = (dot(v, e1), dot(v, e2));
+    let r = x.hypot(y);
+    if r > 0.0 {
+        let (c, s) = (x / r, y / r);
+        (add(scale(e1, c), scale(e2, s)), wrap_angle(s.atan2(c)))
+    } else {
+        (e1, 0.0)
+    }
+}
+
+fn wrap_angle(angle: f64) -> f64 {
+    if angle < 0.0 {
+        angle + 2.0 * PI
+    } else {
+        angle
+    }
+}
+
+fn closest<P>(param: P, point: [f64; 3], x: [f64; 3]) -> ClosestPoint<P> {
+    ClosestPoint {
+        param,
+        point,
+        distance: vec3::distance(point, x),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Deterministic pseudo-random numbers in [0, 1) (a 64-bit LCG).
+    pub(crate) fn lcg(state: &mut u64) -> f64 {
+        *state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (*state >> 11) as f64 / (1u64 << 53) as f64
+    }
+
+    #[test]
+    fn circle_points_are_on_the_circle() {
+        let (c, r) = ([1.0, -2.0, 0.5], 1.0);
+        let n = [1.0, 2.0, 2.0];
+        let curve = circle(c, n, r).unwrap();
+        let n = scale(n, 1.0 / 3.0);
+        assert!(curve.is_closed());
+        for i in 0..=5000 {
+            let p = curve.point(i as f64 / 5000.0);
+            let d = sub(p, c);
+            assert!((norm(d) - r).abs() < 1e-14);
+            assert!(dot(d, n).abs() < 1e-14);
+        }
+        // Quarter points are where the frame axes say.
+        let [e1, e2, _] = orthonormal_frame(n).unwrap();
+        assert!(vec3::distance(curve.point(0.0), add(c, e1)) < 1e-15);
+        assert!(vec3::distance(curve.point(0.25), add(c, e2)) < 1e-15);
+    }
+
+    #[test]
+    fn sphere_satisfies_its_implicit_equation_and_has_poles() {
+        let (c, r) = ([0.3, -0.2, 0.1], 1.0);
+        let s = sphere(c, r).unwrap();
+        let mut seed = 1;
+        for _ in 0..5000 {
+            let (u, v) = (lcg(&mut seed), lcg(&mut seed));
+            let p = s.point(u, v);
+            assert!((vec3::distance(p, c) - r).abs() < 1e-14, "{u} {v}");
+        }
+        assert_eq!(s.degenerate_edges(), [true, true, false, false]);
+        assert!(s.is_closed_u() && !s.is_closed_v());
+        assert!(vec3::distance(s.point(0.3, 0.0), [0.3, -0.2, -0.9]) < 1e-15);
+        assert!(vec3::distance(s.point(0.3, 1.0), [0.3, -0.2, 1.1]) < 1e-15);
+        assert!(vec3::distance(s.point(0.0, 0.5), [1.3, -0.2, 0.1]) < 1e-15);
+    }
+
+    #[test]
+    fn torus_and_cylinder_satisfy_their_implicit_equations() {
+        let (c, (big, small)) = ([1.0, 2.0, 3.0], (1.0, 0.25));
+        let axis = [0.0, 1.0, 1.0];
+        let a = scale(axis, 1.0 / 2f64.sqrt());
+        let t = torus(c, axis, big, small).unwrap();
+        let cyl = cylinder(c, axis, 0.5, (-1.0, 2.0)).unwrap();
+        let mut seed = 7;
+        for _ in 0..5000 {
+            let (u, v) = (lcg(&mut seed), lcg(&mut seed));
+            // (|d_⊥| - R)² + (d·a)² = r²
+            let d = sub(t.point(u, v), c);
+            let z = dot(d, a);
+            let rho = norm(sub(d, scale(a, z)));
+            assert!(((rho - big).hypot(z) - small).abs() < 1e-14);
+            let d = sub(cyl.point(u, v), c);
+            let z = dot(d, a);
+            assert!((norm(sub(d, scale(a, z))) - 0.5).abs() < 1e-14);
+            assert!((z - (-1.0 + 3.0 * v)).abs() < 1e-14);
+        }
+        assert!(t.is_closed_u() && t.is_closed_v());
+        assert_eq!(t.degenerate_edges(), [false; 4]);
+    }
+
+    #[test]
+    fn analytic_closest_points() {
+        let sphere = AnalyticShape::new_sphere([1.0, 0.0, 0.0], 2.0).unwrap();
+        let cp = sphere.closest_point([1.0, 0.0, 5.0]);
+        assert!(vec3::distance(cp.point, [1.0, 0.0, 2.0]) < 1e-15);
+        assert!((cp.distance - 3.0).abs() < 1e-15);
+        assert!((cp.param[1] - PI / 2.0).abs() < 1e-15);
+
+        let torus = AnalyticShape::new_torus([0.0; 3], [0.0, 0.0, 2.0], 3.0, 1.0).unwrap();
+        // Above the tube centre circle at (0, 3, 0): closest is the top of the tube.
+        let cp = torus.closest_point([0.0, 3.0, 4.0]);
+        assert!(vec3::distance(cp.point, [0.0, 3.0, 1.0]) < 1e-15);
+        assert!((cp.distance - 3.0).abs() < 1e-15);
+        assert!((cp.param[0] - PI / 2.0).abs() < 1e-15);
+        assert!((cp.param[1] - PI / 2.0).abs() < 1e-15);
+        // Inside the hole, on the plane: inner equator.
+        let cp = torus.closest_point([-0.5, 0.0, 0.0]);
+        assert!(vec3::distance(cp.point, [-2.0, 0.0, 0.0]) < 1e-15);
+        assert!((cp.param[1] - PI).abs() < 1e-15);
+
+        let cyl = AnalyticShape::new_cylinder([0.0; 3], [0.0, 0.0, -1.0], 1.0).unwrap();
+        let cp = cyl.closest_point([3.0, 4.0, 7.0]);
+        assert!(vec3::distance(cp.point, [0.6, 0.8, 7.0]) < 1e-15);
+        assert!((cp.param[1] + 7.0).abs() < 1e-15);
+        assert!((cp.distance - 4.0).abs() < 1e-15);
+
+        let circle = AnalyticShape::new_circle([0.0; 3], [0.0, 0.0, 1.0], 2.0).unwrap();
+        let cp = circle.closest_point([0.0, -1.0, 1.0]);
+        assert!(vec3::distance(cp.point, [0.0, -2.0, 0.0]) < 1e-15);
+        assert!((cp.param[0] - 1.5 * PI).abs() < 1e-15);
+        assert!((cp.distance - 2f64.sqrt()).abs() < 1e-15);
+
+        assert!(AnalyticShape::new_torus([0.0; 3], [0.0, 0.0, 1.0], 1.0, 2.0).is_err());
+        assert!(AnalyticShape::new_sphere([0.0; 3], -1.0).is_err());
+        assert!(AnalyticShape::new_cylinder([0.0; 3], [0.0; 3], 1.0).is_err());
+    }
+}

@@ -1,0 +1,351 @@
+//! Rational B-spline (NURBS) surfaces: evaluation and partial derivatives up to second order
+//! (Piegl & Tiller A3.6/A4.4). Degenerate edges (poles, where a whole row of control points
+//! coincides) are allowed: there ∂S/∂u or ∂S/∂v vanishes, the point is still well defined.
+
+use crate::basis::{
+    basis_function_derivatives, basis_functions, find_span, validate_knot_vector, validate_weights,
+    MAX_ORDER,
+};
+use crate::vec3;
+use crate::NurbsError;
+
+/// A NURBS surface `S(u, v)` on `[U_p, U_{n_u}] × [V_q, V_{n_v}]`.
+///
+/// Control points and weights are stored row-major: the point `P_{i,j}` (i along u, j along v)
+/// is `control_points[i * n_v + j]`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsSurface {
+    /// Degree in u.
+    pub degree_u: usize,
+    /// Degree in v.
+    pub degree_v: usize,
+    /// Knots in u, `n_u + degree_u + 1` of them.
+    pub knots_u: Vec<f64>,
+    /// Knots in v, `n_v + degree_v + 1` of them.
+    pub knots_v: Vec<f64>,
+    /// `n_u × n_v` control points, row-major (index `i * n_v + j`).
+    pub control_points: Vec<[f64; 3]>,
+    /// One weight `> 0` per control point, same order.
+    pub weights: Vec<f64>,
+}
+
+/// A surface point and its partial derivatives up to second order.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceDerivatives {
+    /// `S(u, v)`.
+    pub point: [f64; 3],
+    /// `∂S/∂u`.
+    pub du: [f64; 3],
+    /// `∂S/∂v`.
+    pub dv: [f64; 3],
+    /// `∂²S/∂u²`.
+    pub duu: [f64; 3],
+    /// `∂²S/∂u∂v`.
+    pub duv: [f64; 3],
+    /// `∂²S/∂v²`.
+    pub dvv: [f64; 3],
+}
+
+impl NurbsSurface {
+    /// A validated NURBS surface.
+    pub fn new(
+        degree_u: usize,
+        degree_v: usize,
+        knots_u: Vec<f64>,
+        knots_v: Vec<f64>,
+        control_points: Vec<[f64; 3]>,
+        weights: Vec<f64>,
+    ) -> Result<Self, NurbsError> {
+        let surface = Self {
+            degree_u,
+            degree_v,
+            knots_u,
+            knots_v,
+            control_points,
+            weights,
+        };
+        surface.validate()?;
+        Ok(surface)
+    }
+
+    /// Number of control points along u (`n_u`).
+    pub fn n_u(&self) -> usize {
+        self.knots_u.len().saturating_sub(self.degree_u + 1)
+    }
+
+    /// Number of control points along v (`n_v`).
+    pub fn n_v(&self) -> usize {
+        self.knots_v.len().saturating_sub(self.degree_v + 1)
+    }
+
+    /// Checks degrees, knot vectors (their lengths fix `n_u`, `n_v`), net size and weights.
+    pub fn validate(&self) -> Result<(), NurbsError> {
+        let (n_u, n_v) = (self.n_u(), self.n_v());
+        if self.control_points.len() != n_u * n_v {
+            return Err(NurbsError::ControlNetSize {
+                n_u,
+                n_v,
+                found: self.control_points.len(),
+            });
+        }
+        validate_knot_vector(self.degree_u, &self.knots_u, n_u)?;
+        validate_knot_vector(self.degree_v, &self.knots_v, n_v)?;
+        validate_weights(&self.weights, self.control_points.len())?;
+        for (index, p) in self.control_points.iter().enumerate() {
+            if !p.iter().all(|x| x.is_finite()) {
+                return Err(NurbsError::NonFiniteControlPoint { index });
+            }
+        }
+        Ok(())
+    }
+
+    /// Parameter domain `((u_start, u_end), (v_start, v_end))`.
+    pub fn domain(&self) -> ((f64, f64), (f64, f64)) {
+        (
+            (self.knots_u[self.degree_u], self.knots_u[self.n_u()]),
+            (self.knots_v[self.degree_v], self.knots_v[self.n_v()]),
+        )
+    }
+
+    /// Diagonal of the control net's bounding box: the model size used for tolerances.
+    pub fn size(&self) -> f64 {
+        vec3::bounding_box_diagonal(&self.control_points)
+    }
+
+    /// Control point `P_{i,j}`.
+    pub fn control_point(&self, i: usize, j: usize) -> [f64; 3] {
+        self.control_points[i * self.n_v() + j]
+    }
+
+    /// The point `S(u, v)`.
+    pub fn point(&self, u: f64, v: f64) -> [f64; 3] {
+        let (p, q) = (self.degree_u, self.degree_v);
+        let n_v = self.n_v();
+        let span_u = find_span(p, &self.knots_u, u);
+        let span_v = find_span(q, &self.knots_v, v);
+        let mut nu = [0.0; MAX_ORDER];
+        let mut nv = [0.0; MAX_ORDER];
+        basis_functions(span_u, u, p, &self.knots_u, &mut nu);
+        basis_functions(span_v, v, q, &self.knots_v, &mut nv);
+        let mut sw = [0.0; 4];
+        for k in 0..=p {
+            let row = (span_u - p + k) * n_v;
+            for l in 0..=q {
+                let idx = row + span_v - q + l;
+                let w = nu[k] * nv[l] * self.weights[idx];
+                for d in 0..3 {
+                    sw[d] += w * self.control_points[idx][d];
+                }
+                sw[3] += w;
+            }
+        }
+        [sw[0] / sw[3], sw[1] / sw[3], sw[2] / sw[3]]
+    }
+
+    /// The point and all partial derivatives up to second order (A3.6 on the homogeneous
+    /// net, then the rational quotient rule A4.4).
+    pub fn derivatives(&self, u: f64, v: f64) -> SurfaceDerivatives {
+        let (p, q) = (self.degree_u, self.degree_v);
+        let n_v = self.n_v();
+        let span_u = find_span(p, &self.knots_u, u);
+        let span_v = find_span(q, &self.knots_v, v);
+        let mut du = [[0.0; MAX_ORDER]; 3];
+        let mut dv = [[0.0; MAX_ORDER]; 3];
+        basis_function_derivatives(span_u, u, p, 2, &self.knots_u, &mut du);
+        basis_function_derivatives(span_v, v, q, 2, &self.knots_v, &mut dv);
+        // a[k][l], w[k][l]: homogeneous derivatives ∂^{k+l}/∂u^k ∂v^l, k + l ≤ 2.
+        let mut a = [[[0.0; 3]; 3]; 3];
+        let mut w = [[0.0; 3]; 3];
+        for r in 0..=p {
+            let row = (span_u - p + r) * n_v;
+            for s in 0..=q {
+                let idx = row + span_v - q + s;
+                let wi = self.weights[idx];
+                let x = self.control_points[idx];
+                for k in 0..=2 {
+                    for l in 0..=2 - k {
+                        let c = du[k][r] * dv[l][s] * wi;
+                        for d in 0..3 {
+                            a[k][l][d] += c * x[d];
+                        }
+                        w[k][l] += c;
+                    }
+                }
+            }
+        }
+        const BINOMIAL: [[f64; 3]; 3] = [[1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [1.0, 2.0, 1.0]];
+        let mut skl = [[[0.0; 3]; 3]; 3];
+        for k in 0..=2 {
+            for l in 0..=2 - k {
+                let mut v = a[k][l];
+                for j in 1..=l {
+                    for d in 0..3 {
+                        v[d] -= BINOMIAL[l][j] * w[0][j] * skl[k][l - j][d];
+                    }
+                }
+                for i in 1..=k {
+                    for d in 0..3 {
+                        v[d] -= BINOMIAL[k][i] * w[i][0] * skl[k - i][l][d];
+                    }
+                    for j in 1..=l {
+                        for d in 0..3 {
+                            v[d] -=
+                                BINOMIAL[k][i] * BINOMIAL[l][j] * w[i][j] * skl[k - i][l - j][d];
+                        }
+                    }
+                }
+                skl[k][l] = vec3::scale(v, 1.0 / w[0][0]);
+            }
+        }
+        SurfaceDerivatives {
+            point: skl[0][0],
+            du: skl[1][0],
+            dv: skl[0][1],
+            duu: skl[2][0],
+            duv: skl[1][1],
+            dvv: skl[0][2],
+        }
+    }
+
+    /// Whether the first and last control columns in u coincide (to 1e-12 of the size), so that
+    /// `S(u_start, v) = S(u_end, v)`: the surface is closed across a seam in u.
+    pub fn is_closed_u(&self) -> bool {
+        let (n_u, n_v) = (self.n_u(), self.n_v());
+        let tol = 1e-12 * self.size().max(f64::MIN_POSITIVE);
+        (0..n_v).all(|j| {
+            vec3::distance(self.control_point(0, j), self.control_point(n_u - 1, j)) <= tol
+                && (self.weights[j] - self.weights[(n_u - 1) * n_v + j]).abs() <= 1e-12
+        })
+    }
+
+    /// Whether the first and last control rows in v coincide: closed across a seam in v.
+    pub fn is_closed_v(&self) -> bool {
+        let (n_u, n_v) = (self.n_u(), self.n_v());
+        let tol = 1e-12 * self.size().max(f64::MIN_POSITIVE);
+        (0..n_u).all(|i| {
+            vec3::distance(self.control_point(i, 0), self.control_point(i, n_v - 1)) <= tol
+                && (self.weights[i * n_v] - self.weights[i * n_v + n_v - 1]).abs() <= 1e-12
+        })
+    }
+
+    /// Degenerate edges `[v = v_start, v = v_end, u = u_start, u = u_end]`: true where all
+    /// control points of that boundary row coincide (a pole).
+    pub fn degenerate_edges(&self) -> [bool; 4] {
+        let (n_u, n_v) = (self.n_u(), self.n_v());
+        let tol = 1e-12 * self.size().max(f64::MIN_POSITIVE);
+        let collapsed = |pts: Vec<[f64; 3]>| pts.iter().all(|&p| vec3::distance(p, pts[0]) <= tol);
+        [
+            collapsed((0..n_u).map(|i| self.control_point(i, 0)).collect()),
+            collapsed((0..n_u).map(|i| self.control_point(i, n_v - 1)).collect()),
+            collapsed((0..n_v).map(|j| self.control_point(0, j)).collect()),
+            collapsed((0..n_v).map(|j| self.control_point(n_u - 1, j)).collect()),
+        ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rational biquadratic-by-cubic patch with uneven weights and an interior knot in u.
+    fn patch() -> NurbsSurface {
+        let (n_u, n_v) = (4, 4);
+        let mut cps = Vec::new();
+        let mut weights = Vec::new();
+        for i in 0..n_u {
+            for j in 0..n_v {
+                let (x, y) = (i as f64, j as f64);
+                cps.push([x, y, (x * 1.3 + y * 0.7).sin() + 0.2 * x * y]);
+                weights.push(1.0 + 0.3 * ((i * 7 + j * 3) % 5) as f64);
+            }
+        }
+        NurbsSurface::new(
+            2,
+            3,
+            vec![0.0, 0.0, 0.0, 0.4, 1.0, 1.0, 1.0],
+            vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0],
+            cps,
+            weights,
+        )
+        .unwrap()
+    }
+
+    #[test]
+    fn bilinear_patch_matches_closed_form() {
+        // S(u,v) = (u, v, u v) from the corners (0,0,0), (0,1,0), (1,0,0), (1,1,1).
+        let s = NurbsSurface::new(
+            1,
+            1,
+            vec![0.0, 0.0, 1.0, 1.0],
+            vec![0.0, 0.0, 1.0, 1.0],
+            vec![
+                [0.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 1.0],
+            ],
+            vec![1.0; 4],
+        )
+        .unwrap();
+        for &(u, v) in &[(0.0, 0.0), (0.3, 0.8), (1.0, 0.5), (1.0, 1.0)] {
+            let d = s.derivatives(u, v);
+            let exact = [u, v, u * v];
+            for k in 0..3 {
+                assert!((d.point[k] - exact[k]).abs() < 1e-15);
+                assert!((s.point(u, v)[k] - exact[k]).abs() < 1e-15);
+            }
+            assert!(vec3::distance(d.du, [1.0, 0.0, v]) < 1e-15);
+            assert!(vec3::distance(d.dv, [0.0, 1.0, u]) < 1e-15);
+            assert!(vec3::distance(d.duv, [0.0, 0.0, 1.0]) < 1e-15);
+            assert!(vec3::norm(d.duu) < 1e-15 && vec3::norm(d.dvv) < 1e-15);
+        }
+    }
+
+    #[test]
+    fn partial_derivatives_match_finite_differences() {
+        let s = patch();
+        let h = 1e-5;
+        for i in 1..20 {
+            for j in 1..20 {
+                let (u, v) = (i as f64 / 20.0, j as f64 / 20.0);
+                if (u - 0.4).abs() < 2.0 * h {
+                    continue;
+                }
+                let d = s.derivatives(u, v);
+                let (um, up) = (s.derivatives(u - h, v), s.derivatives(u + h, v));
+                let (vm, vp) = (s.derivatives(u, v - h), s.derivatives(u, v + h));
+                for k in 0..3 {
+                    let checks = [
+                        (d.du[k], (up.point[k] - um.point[k]) / (2.0 * h)),
+                        (d.dv[k], (vp.point[k] - vm.point[k]) / (2.0 * h)),
+                        (d.duu[k], (up.du[k] - um.du[k]) / (2.0 * h)),
+                        (d.duv[k], (vp.du[k] - vm.du[k]) / (2.0 * h)),
+                        (d.duv[k], (up.dv[k] - um.dv[k]) / (2.0 * h)),
+                        (d.dvv[k], (vp.dv[k] - vm.dv[k]) / (2.0 * h)),
+                    ];
+                    for (exact, fd) in checks {
+                        assert!((exact - fd).abs() < 1e-7 * (1.0 + exact.abs()), "{u} {v}");
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn net_size_is_checked() {
+        let mut s = patch();
+        s.control_points.pop();
+        assert!(matches!(
+            s.validate(),
+            Err(NurbsError::ControlNetSize {
+                n_u: 4,
+                n_v: 4,
+                found: 15
+            })
+        ));
+        let s = patch();
+        assert_eq!(s.domain(), ((0.0, 1.0), (0.0, 1.0)));
+        assert!(!s.is_closed_u() && !s.is_closed_v());
+        assert_eq!(s.degenerate_edges(), [false; 4]);
+    }
+}
