@@ -19,10 +19,12 @@ pub mod curve;
 mod error;
 pub mod iges;
 pub mod inversion;
+pub mod model;
 pub mod shapes;
 pub mod surface;
 pub(crate) mod vec3;
 
 pub use curve::NurbsCurve;
 pub use error::NurbsError;
+pub use model::{EntityGeometry, EntityPoint, GeometricEntity, GeometryModel};
 pub use surface::{NurbsSurface, SurfaceDerivatives};

@@ -1,0 +1,167 @@
+//! The geometry model: the named curves and surfaces that boundary nodes are placed on,
+//! whichever input (JSON, IGES, code) described them.
+
+use crate::inversion::{closest_point_on_curve, closest_point_on_surface};
+use crate::shapes::{AnalyticShape, ClosestPoint};
+use crate::vec3;
+use crate::{NurbsCurve, NurbsSurface};
+
+/// The carrier of a geometric entity: a curve (2D boundaries, 3D feature curves) or a surface.
+#[derive(Debug, Clone, PartialEq)]
+pub enum EntityGeometry {
+    /// A rational B-spline curve.
+    Curve(NurbsCurve),
+    /// A rational B-spline surface.
+    Surface(NurbsSurface),
+}
+
+/// One named curve or surface of a [`GeometryModel`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeometricEntity {
+    /// Name used to associate mesh physical groups with the entity (JSON `name`; for IGES
+    /// the entity's label, or `"<type>#<DE>"` when it has none).
+    pub name: String,
+    /// Where the entity came from, for messages (e.g. `"IGES entity 128 (DE 5, line 40)"`).
+    pub origin: String,
+    /// The exact rational B-spline representation.
+    pub geometry: EntityGeometry,
+    /// The same shape in closed form, when it is one (fast, exact projection).
+    pub analytic: Option<AnalyticShape>,
+}
+
+/// A closest point on an entity: the parameter (curves use `param[0]`), the point and the
+/// distance.
+pub type EntityPoint = ClosestPoint<[f64; 2]>;
+
+impl GeometricEntity {
+    /// An entity without a closed form.
+    pub fn new(
+        name: impl Into<String>,
+        origin: impl Into<String>,
+        geometry: EntityGeometry,
+    ) -> Self {
+        Self {
+            name: name.into(),
+            origin: origin.into(),
+            geometry,
+            analytic: None,
+        }
+    }
+
+    /// Whether the entity is a curve.
+    pub fn is_curve(&self) -> bool {
+        matches!(self.geometry, EntityGeometry::Curve(_))
+    }
+
+    /// The closest point of the entity to `x`, with its NURBS parameter. Where the entity has
+    /// a closed form, the point is the closed-form one (exact) and the parameter comes from
+    /// point inversion on the NURBS.
+    pub fn closest_point(&self, x: [f64; 3]) -> EntityPoint {
+        let inverted = match &self.geometry {
+            EntityGeometry::Curve(c) => {
+                let cp = closest_point_on_curve(c, x);
+                ClosestPoint {
+                    param: [cp.param, 0.0],
+                    point: cp.point,
+                    distance: cp.distance,
+                }
+            }
+            EntityGeometry::Surface(s) => closest_point_on_surface(s, x),
+        };
+        match &self.analytic {
+            Some(shape) => {
+                let exact = shape.closest_point(x);
+                ClosestPoint {
+                    param: inverted.param,
+                    point: exact.point,
+                    distance: exact.distance,
+                }
+            }
+            None => inverted,
+        }
+    }
+
+    /// The distance from `x` to the entity (closed form where available).
+    pub fn distance(&self, x: [f64; 3]) -> f64 {
+        match &self.analytic {
+            Some(shape) => shape.closest_point(x).distance,
+            None => self.closest_point(x).distance,
+        }
+    }
+
+    /// The point at NURBS parameter `param` (curves use `param[0]`).
+    pub fn point(&self, param: [f64; 2]) -> [f64; 3] {
+        match &self.geometry {
+            EntityGeometry::Curve(c) => c.point(param[0]),
+            EntityGeometry::Surface(s) => s.point(param[0], param[1]),
+        }
+    }
+
+    /// Diagonal of the control polygon's bounding box: the entity's size.
+    pub fn size(&self) -> f64 {
+        match &self.geometry {
+            EntityGeometry::Curve(c) => c.size(),
+            EntityGeometry::Surface(s) => s.size(),
+        }
+    }
+}
+
+/// A set of named curves and surfaces.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct GeometryModel {
+    /// The entities, in input order.
+    pub entities: Vec<GeometricEntity>,
+}
+
+impl GeometryModel {
+    /// The entity called `name`, if any.
+    pub fn entity(&self, name: &str) -> Option<&GeometricEntity> {
+        self.entities.iter().find(|e| e.name == name)
+    }
+
+    /// Index of the entity called `name`, if any.
+    pub fn index_of(&self, name: &str) -> Option<usize> {
+        self.entities.iter().position(|e| e.name == name)
+    }
+
+    /// Number of curves and of surfaces.
+    pub fn counts(&self) -> (usize, usize) {
+        let curves = self.entities.iter().filter(|e| e.is_curve()).count();
+        (curves, self.entities.len() - curves)
+    }
+
+    /// Model size: the largest entity size (for relative tolerances).
+    pub fn size(&self) -> f64 {
+        self.entities.iter().map(|e| e.size()).fold(0.0, f64::max)
+    }
+
+    /// Distance between two points (re-exported for callers without a vector type).
+    pub fn distance_between(a: [f64; 3], b: [f64; 3]) -> f64 {
+        vec3::distance(a, b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::shapes::sphere;
+
+    #[test]
+    fn sphere_entity_projects_exactly_and_inverts_to_its_parameter() {
+        let mut e = GeometricEntity::new(
+            "ball",
+            "test",
+            EntityGeometry::Surface(sphere([1.0, 0.0, 0.0], 2.0).unwrap()),
+        );
+        e.analytic = Some(AnalyticShape::new_sphere([1.0, 0.0, 0.0], 2.0).unwrap());
+        let x = [4.0, 1.0, -0.5];
+        let cp = e.closest_point(x);
+        let d = vec3::sub(cp.point, [1.0, 0.0, 0.0]);
+        assert!((vec3::norm(d) - 2.0).abs() < 1e-15);
+        assert!(vec3::distance(e.point(cp.param), cp.point) < 1e-12);
+        let model = GeometryModel { entities: vec![e] };
+        assert_eq!(model.index_of("ball"), Some(0));
+        assert_eq!(model.counts(), (0, 1));
+        assert!(model.entity("cube").is_none());
+    }
+}
