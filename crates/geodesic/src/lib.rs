@@ -1,4 +1,38 @@
-//! Boundary nodes on the true geometry: edge nodes by arc length (Eq. (4)), approximate
-//! geodesics on surfaces (Eq. (5), Fig. 3) and face-interior nodes (Eqs. (6)–(7)).
-//!
-//! Not yet implemented: this crate is filled in by issue [4/7].
+//! Boundary nodes on the true geometry (the paper's Sect. 3.1, 4.1, 4.2): association of
+//! boundary facets with CAD entities ([`association`]), edge nodes by arc length (Eq. (4)),
+//! approximate geodesics on surfaces (Eq. (5), Fig. 3) and face-interior nodes (Eqs. (6)–(7)).
+
+pub mod association;
+pub mod chart;
+pub mod path;
+
+pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
+pub use chart::SurfaceChart;
+pub use path::GeodesicPath;
+
+/// What went wrong while putting boundary nodes on the geometry.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum GeodesicError {
+    /// A geometry tolerance that is negative or not finite.
+    #[error("geometry tolerance must be a finite length ≥ 0, got {0}")]
+    Tolerance(f64),
+    /// A vertex of a facet associated with an entity lies too far from it.
+    #[error("vertex {vertex} lies {distance:.3e} from geometry entity \"{entity}\", beyond the tolerance {tolerance:.3e} (is it the right geometry, in the mesh's units?)")]
+    VertexOffGeometry {
+        vertex: u32,
+        entity: String,
+        distance: f64,
+        tolerance: f64,
+    },
+    /// A facet was associated by name with an entity of the wrong dimension.
+    #[error("entity \"{entity}\" is a {} but the boundary of a {mesh_dim}D mesh needs {} (facet with vertices {facet_vertices:?})", if *mesh_dim == 2 { "surface" } else { "curve" }, if *mesh_dim == 2 { "curves" } else { "surfaces" })]
+    EntityDimension {
+        entity: String,
+        mesh_dim: usize,
+        facet_vertices: Vec<u32>,
+    },
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,268 @@
+//! Association of the mesh's boundary facets with the geometry's curves and surfaces, and the
+//! snapping of their vertices onto it (the paper's Sect. 3.1 assumes every boundary vertex
+//! lies on the CAD; exported CAD and its mesh often differ by ~1e-6, so we move them).
+//!
+//! Two rules, tried in order for every declared facet:
+//! 1. **By name**: a facet whose physical group is named like an entity goes to that entity
+//!    (the JSON input's `name`s are chosen for this).
+//! 2. **By proximity** (when [`AssociationRule::NameThenNearest`] is asked for, as for IGES,
+//!    whose entities carry no mesh names): the entity of the facet's dimension nearest to all
+//!    its vertices — the smallest maximum vertex distance — if that is within the tolerance.
+//!
+//! Facets left over stay straight and are counted. A vertex of an associated facet farther
+//! than the tolerance from its entity is an error; a vertex within it is moved onto the
+//! entity. A vertex shared by facets on two entities (a feature edge) is moved onto both by
+//! alternating projections, which converge to the intersection where the two meet at an angle.
+
+use std::collections::BTreeMap;
+
+use hocurve_mesh::LinearMesh;
+use hocurve_nurbs::GeometryModel;
+use rayon::prelude::*;
+
+use crate::GeodesicError;
+
+/// How facets find their entity.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum AssociationRule {
+    /// Only physical-group names equal to entity names.
+    NameOnly,
+    /// Names first, then the nearest entity within the tolerance.
+    NameThenNearest,
+}
+
+/// The relative default tolerance: a fraction of the mesh's bounding-box diagonal.
+pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-4;
+
+/// Which entity each boundary facet lies on, and where its vertices go.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundaryAssociation {
+    /// Entity index (into [`GeometryModel::entities`]) of each declared facet of the mesh,
+    /// `None` for facets that stay straight.
+    pub facet_entity: Vec<Option<usize>>,
+    /// For every vertex on an associated facet: its position on the geometry.
+    pub vertex_targets: BTreeMap<u32, [f64; 3]>,
+    /// The entities each such vertex lies on (one, or several on a feature edge).
+    pub vertex_entities: BTreeMap<u32, Vec<usize>>,
+    /// The absolute tolerance used.
+    pub tolerance: f64,
+    /// Facets associated by name and by proximity.
+    pub by_name: usize,
+    /// Facets associated by proximity.
+    pub by_proximity: usize,
+    /// Facets left straight.
+    pub unassociated: usize,
+    /// Largest distance a vertex was moved to land on the geometry.
+    pub max_vertex_move: f64,
+}
+
+impl BoundaryAssociation {
+    /// Number of facets on each entity, by entity index.
+    pub fn facets_per_entity(&self) -> BTreeMap<usize, usize> {
+        let mut out = BTreeMap::new();
+        for e in self.facet_entity.iter().flatten() {
+            *out.entry(*e).or_insert(0) += 1;
+        }
+        out
+    }
+}
+
+/// Diagonal of the bounding box of the mesh's vertices.
+pub fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for d in 0..3 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
+    }
+    if points.is_empty() {
+        return 0.0;
+    }
+    ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt()
+}
+
+/// Associates the declared facets of `mesh` with entities of `geometry` (see the module doc).
+/// `tolerance` is absolute; `None` takes [`DEFAULT_RELATIVE_TOLERANCE`] × the mesh's bounding-box
+/// diagonal.
+pub fn associate_boundary(
+    mesh: &LinearMesh,
+    geometry: &GeometryModel,
+    rule: AssociationRule,
+    tolerance: Option<f64>,
+) -> Result<BoundaryAssociation, GeodesicError> {
+    let tolerance =
+        tolerance.unwrap_or(DEFAULT_RELATIVE_TOLERANCE * bounding_box_diagonal(&mesh.vertices));
+    if !(tolerance.is_finite() && tolerance >= 0.0) {
+        return Err(GeodesicError::Tolerance(tolerance));
+    }
+    // Entities of the facets' dimension: curves bound 2D meshes, surfaces 3D ones.
+    let wants_curve = mesh.dim == 2;
+    let candidates: Vec<usize> = (0..geometry.entities.len())
+        .filter(|&i| geometry.entities[i].is_curve() == wants_curve)
+        .collect();
+
+    // Rule 1: names.
+    let name_of_group: BTreeMap<i32, &str> = mesh
+        .physical_groups
+        .iter()
+        .filter(|g| g.dim + 1 == mesh.dim)
+        .map(|g| (g.tag, g.name.as_str()))
+        .collect();
+    let mut facet_entity: Vec<Option<usize>> = mesh
+        .facets
+        .iter()
+        .map(|f| {
+            mesh.physical_tags(mesh.dim - 1, f.entity)
+                .iter()
+                .filter_map(|t| name_of_group.get(t))
+                .find_map(|name| geometry.index_of(name))
+        })
+        .collect();
+    for (facet, entity) in mesh.facets.iter().zip(&facet_entity) {
+        if let Some(e) = *entity {
+            if geometry.entities[e].is_curve() != wants_curve {
+                return Err(GeodesicError::EntityDimension {
+                    entity: geometry.entities[e].name.clone(),
+                    mesh_dim: mesh.dim,
+                    facet_vertices: facet.vertices.clone(),
+                });
+            }
+        }
+    }
+    let by_name = facet_entity.iter().flatten().count();
+
+    // Rule 2: proximity, with the vertex–entity distances computed once per vertex.
+    let mut by_proximity = 0;
+    if rule == AssociationRule::NameThenNearest && !candidates.is_empty() {
+        let mut open_vertices: Vec<u32> = mesh
+            .facets
+            .iter()
+            .zip(&facet_entity)
+            .filter(|(_, e)| e.is_none())
+            .flat_map(|(f, _)| f.vertices.iter().copied())
+            .collect();
+        open_vertices.sort_unstable();
+        open_vertices.dedup();
+        let distances: Vec<Vec<f64>> = open_vertices
+            .par_iter()
+            .map(|&v| {
+                let x = mesh.vertices[v as usize];
+                candidates
+                    .iter()
+                    .map(|&e| geometry.entities[e].distance(x))
+                    .collect()
+            })
+            .collect();
+        let row = |v: u32| -> &Vec<f64> {
+            // Present: every open facet's vertices were collected above.
+            &distances[open_vertices.binary_search(&v).unwrap_or(0)]
+        };
+        for (facet, entity) in mesh.facets.iter().zip(facet_entity.iter_mut()) {
+            if entity.is_some() {
+                continue;
+            }
+            let mut best: Option<(f64, usize)> = None;
+            for (k, &e) in candidates.iter().enumerate() {
+                let worst = facet
+                    .vertices
+                    .iter()
+                    .map(|&v| row(v)[k])
+                    .fold(0.0, f64::max);
+                if worst <= tolerance && best.is_none_or(|(d, _)| worst < d) {
+                    best = Some((worst, e));
+                }
+            }
+            if let Some((_, e)) = best {
+                *entity = Some(e);
+                by_proximity += 1;
+            }
+        }
+    }
+    let unassociated = facet_entity.iter().filter(|e| e.is_none()).count();
+
+    // Vertices: their entities, then their snapped positions.
+    let mut vertex_entities: BTreeMap<u32, Vec<usize>> = BTreeMap::new();
+    for (facet, entity) in mesh.facets.iter().zip(&facet_entity) {
+        if let Some(e) = *entity {
+            for &v in &facet.vertices {
+                let list = vertex_entities.entry(v).or_default();
+                if !list.contains(&e) {
+                    list.push(e);
+                }
+            }
+        }
+    }
+    for list in vertex_entities.values_mut() {
+        list.sort_unstable();
+    }
+    let work: Vec<(u32, Vec<usize>)> = vertex_entities
+        .iter()
+        .map(|(v, e)| (*v, e.clone()))
+        .collect();
+    let snapped: Vec<Result<(u32, [f64; 3], f64), GeodesicError>> = work
+        .par_iter()
+        .map(|(v, entities)| {
+            let x = mesh.vertices[*v as usize];
+            for &e in entities {
+                let d = geometry.entities[e].distance(x);
+                if d > tolerance {
+                    return Err(GeodesicError::VertexOffGeometry {
+                        vertex: *v,
+                        entity: geometry.entities[e].name.clone(),
+                        distance: d,
+                        tolerance,
+                    });
+                }
+            }
+            let target = snap_onto(geometry, entities, x);
+            Ok((*v, target, distance(target, x)))
+        })
+        .collect();
+    let mut vertex_targets = BTreeMap::new();
+    let mut max_vertex_move: f64 = 0.0;
+    for s in snapped {
+        let (v, target, moved) = s?;
+        vertex_targets.insert(v, target);
+        max_vertex_move = max_vertex_move.max(moved);
+    }
+    Ok(BoundaryAssociation {
+        facet_entity,
+        vertex_targets,
+        vertex_entities,
+        tolerance,
+        by_name,
+        by_proximity,
+        unassociated,
+        max_vertex_move,
+    })
+}
+
+/// The point on all of `entities` nearest `x`: the projection for one entity; alternating
+/// projections for several (they converge linearly, fast for transversal intersections).
+fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [f64; 3] {
+    let project = |e: usize, y: [f64; 3]| geometry.entities[e].closest_point(y).point;
+    match entities {
+        [] => x,
+        [e] => project(*e, x),
+        _ => {
+            let size = geometry.size().max(f64::MIN_POSITIVE);
+            let mut y = x;
+            for _ in 0..200 {
+                let before = y;
+                for &e in entities {
+                    y = project(e, y);
+                }
+                if distance(before, y) <= 1e-14 * size {
+                    break;
+                }
+            }
+            y
+        }
+    }
+}
+
+fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}

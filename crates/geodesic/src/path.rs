@@ -1,0 +1,511 @@
+//! Approximate geodesics on a surface by the paper's perpendicular-bisector refinement in
+//! parameter space (Sect. 4.1, Eq. (5), Fig. 3).
+//!
+//! Between parameters λ₁ and λ₂ the new point is
+//! λ₃ = argmin over the perpendicular bisector r₁₂ of λ₁λ₂ of |x₁ − S(λ)| + |S(λ) − x₂|;
+//! every segment is refined this way, then each interior point is corrected by the same
+//! minimisation on the bisector of its two neighbours, until the polyline's length changes by
+//! less than a relative tolerance. Points along the path are placed by arc length of the
+//! polyline, with the parameter interpolated linearly inside a segment and the point
+//! evaluated on the surface — so every point returned lies on the surface exactly.
+
+use crate::chart::SurfaceChart;
+
+/// Default relative tolerance on the change of the polyline length between refinements.
+pub const DEFAULT_LENGTH_TOLERANCE: f64 = 1e-9;
+/// At least this many segments.
+const MIN_SEGMENTS: usize = 4;
+/// At most this many segments.
+const MAX_SEGMENTS: usize = 1024;
+
+/// A polyline on a surface approximating the geodesic between its ends.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GeodesicPath {
+    /// Parameters of the polyline's points (unrolled across seams: fold before evaluating).
+    pub params: Vec<[f64; 2]>,
+    /// The points S(params).
+    pub points: Vec<[f64; 3]>,
+    /// Cumulative chord lengths: `lengths[0] = 0`, `lengths.last()` = the path length.
+    pub lengths: Vec<f64>,
+}
+
+impl GeodesicPath {
+    /// The approximate geodesic from parameter `a` to parameter `b` on the chart's surface,
+    /// refined until the length changes by less than `tolerance` (relative).
+    pub fn between(chart: &SurfaceChart, a: [f64; 2], b: [f64; 2], tolerance: f64) -> Self {
+        let (a, b) = chart.path_ends(a, b);
+        let mut params = vec![a, b];
+        let mut points = vec![chart.point(a), chart.point(b)];
+        if distance(points[0], points[1]) == 0.0 {
+            return Self::from_polyline(params, points);
+        }
+        let mut length = polyline_length(&points);
+        loop {
+            // Refine every segment at its bisector minimum.
+            let mut fine_params = Vec::with_capacity(2 * params.len());
+            let mut fine_points = Vec::with_capacity(2 * params.len());
+            for i in 0..params.len() - 1 {
+                fine_params.push(params[i]);
+                fine_points.push(points[i]);
+                let (m, x) =
+                    bisector_minimum(chart, params[i], params[i + 1], points[i], points[i + 1]);
+                fine_params.push(m);
+                fine_points.push(x);
+            }
+            fine_params.extend(params.last());
+            fine_points.extend(points.last());
+            params = fine_params;
+            points = fine_points;
+            // Correct the points from their new neighbours (Fig. 3c): old points first, then new.
+            for parity in [0, 1] {
+                for i in 1..params.len() - 1 {
+                    if i % 2 == parity {
+                        let (m, x) = bisector_minimum(
+                            chart,
+                            params[i - 1],
+                            params[i + 1],
+                            points[i - 1],
+                            points[i + 1],
+                        );
+                        params[i] = m;
+                        points[i] = x;
+                    }
+                }
+            }
+            let new_length = polyline_length(&points);
+            let segments = params.len() - 1;
+            let change = (new_length - length).abs();
+            length = new_length;
+            if segments >= MAX_SEGMENTS
+                || (segments >= MIN_SEGMENTS && change <= tolerance * length)
+            {
+                break;
+            }
+        }
+        Self::from_polyline(params, points)
+    }
+
+    /// A path through given parameters and points.
+    fn from_polyline(params: Vec<[f64; 2]>, points: Vec<[f64; 3]>) -> Self {
+        let mut lengths = Vec::with_capacity(points.len());
+        let mut total = 0.0;
+        lengths.push(0.0);
+        for w in points.windows(2) {
+            total += distance(w[0], w[1]);
+            lengths.push(total);
+        }
+        Self {
+            params,
+            points,
+            lengths,
+        }
+    }
+
+    /// Length of the polyline.
+    pub fn length(&self) -> f64 {
+        self.lengths.last().copied().unwrap_or(0.0)
+    }
+
+    /// The parameter and the point at `fraction` ∈ [0, 1] of the length from the start: the
+    /// point of the polyline at that length, projected onto the surface (closest point, by
+    /// Newton from the linearly interpolated parameter). The projection is exact on a plane
+    /// and on a sphere (whose geodesics are radial projections of their chords).
+    pub fn at_fraction(&self, chart: &SurfaceChart, fraction: f64) -> ([f64; 2], [f64; 3]) {
+        let n = self.points.len();
+        let fraction = fraction.clamp(0.0, 1.0);
+        if fraction == 0.0 || n < 2 {
+            return (self.params[0], self.points[0]);
+        }
+        if fraction == 1.0 {
+            return (self.params[n - 1], self.points[n - 1]);
+        }
+        let target = fraction * self.length();
+        // The segment [k, k + 1] holding the target length.
+        let k = self
+            .lengths
+            .partition_point(|&l| l <= target)
+            .clamp(1, n - 1)
+            - 1;
+        let seg = self.lengths[k + 1] - self.lengths[k];
+        let t = if seg > 0.0 {
+            (target - self.lengths[k]) / seg
+        } else {
+            0.0
+        };
+        let (a, b) = (self.params[k], self.params[k + 1]);
+        let (xa, xb) = (self.points[k], self.points[k + 1]);
+        let guess = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
+        let on_chord = [
+            xa[0] + t * (xb[0] - xa[0]),
+            xa[1] + t * (xb[1] - xa[1]),
+            xa[2] + t * (xb[2] - xa[2]),
+        ];
+        let (uv, x) = chart.project_near(on_chord, guess);
+        (chart.unroll_near(uv, guess), x)
+    }
+}
+
+/// λ on the bisector of the parameter segment `a`–`b` minimising |xa − S(λ)| + |S(λ) − xb|
+/// (Eq. (5)), by Brent's method along the bisector. The bisector is taken through the
+/// parameter midpoint in the direction whose image is perpendicular to the chord xa–xb: on a
+/// surface with an uneven parametrisation (a sphere's), a parameter-space perpendicular is
+/// slanted in space, and the sum of distances — a saddle along the geodesic — would be
+/// minimised off it.
+fn bisector_minimum(
+    chart: &SurfaceChart,
+    a: [f64; 2],
+    b: [f64; 2],
+    xa: [f64; 3],
+    xb: [f64; 3],
+) -> ([f64; 2], [f64; 3]) {
+    // Through the surface point nearest the chord's midpoint (not the parameter midpoint,
+    // whose image drifts along the path on an uneven parametrisation): the new point then
+    // splits the segment into two equal chords and the polyline's chords stay even.
+    let guess = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
+    let chord_mid = [
+        0.5 * (xa[0] + xb[0]),
+        0.5 * (xa[1] + xb[1]),
+        0.5 * (xa[2] + xb[2]),
+    ];
+    let mid = chart.unroll_near(chart.project_near(chord_mid, guess).0, guess);
+    let chord = [xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]];
+    let chord_length = distance(xa, xb);
+    let mut direction = [-(b[1] - a[1]), b[0] - a[0]];
+    let [u, v] = chart.fold(mid);
+    let d = chart.surface.derivatives(u, v);
+    let g = [dot(d.du, chord), dot(d.dv, chord)];
+    let image = |w: [f64; 2]| {
+        let x = [
+            d.du[0] * w[0] + d.dv[0] * w[1],
+            d.du[1] * w[0] + d.dv[1] * w[1],
+            d.du[2] * w[0] + d.dv[2] * w[1],
+        ];
+        dot(x, x).sqrt()
+    };
+    let perpendicular = [g[1], -g[0]];
+    let len = image(perpendicular);
+    if len > 1e-12 * chord_length.max(f64::MIN_POSITIVE) && len.is_finite() {
+        // Scaled so that t = ±1/2 reaches half a chord length off the midpoint.
+        let scale = chord_length / len;
+        direction = [perpendicular[0] * scale, perpendicular[1] * scale];
+    }
+    let at = |t: f64| [mid[0] + t * direction[0], mid[1] + t * direction[1]];
+    let cost = |t: f64| {
+        let x = chart.point(at(t));
+        distance(xa, x) + distance(x, xb)
+    };
+    // Brent's minimum is limited to ~√ε by the flatness of the cost; the root of its
+    // derivative, f'(t) = (e_a + e_b)·S'(t) with e the unit vectors from the foci, is
+    // then found to round-off by the secant method inside a bracket.
+    let slope = |t: f64| {
+        let [u, v] = chart.fold(at(t));
+        let d = chart.surface.derivatives(u, v);
+        let x = d.point;
+        let (ea, eb) = (unit_from(xa, x), unit_from(xb, x));
+        let tangent = [
+            d.du[0] * direction[0] + d.dv[0] * direction[1],
+            d.du[1] * direction[0] + d.dv[1] * direction[1],
+            d.du[2] * direction[0] + d.dv[2] * direction[1],
+        ];
+        dot([ea[0] + eb[0], ea[1] + eb[1], ea[2] + eb[2]], tangent)
+    };
+    let t0 = brent_minimum(cost, -0.5, 0.5, 1e-8);
+    let t = polish_root(slope, t0, 1e-6);
+    let uv = at(t);
+    (uv, chart.point(uv))
+}
+
+/// Unit vector from `from` to `x` (zero if they coincide).
+fn unit_from(from: [f64; 3], x: [f64; 3]) -> [f64; 3] {
+    let d = [x[0] - from[0], x[1] - from[1], x[2] - from[2]];
+    let n = dot(d, d).sqrt();
+    if n > 0.0 {
+        [d[0] / n, d[1] / n, d[2] / n]
+    } else {
+        [0.0; 3]
+    }
+}
+
+/// The root of `g` near `t0`, searched in [t0 − h, t0 + h]: bisection with secant steps
+/// (regula falsi, Illinois variant). Returns `t0` when `g` does not change sign there.
+fn polish_root(g: impl Fn(f64) -> f64, t0: f64, h: f64) -> f64 {
+    let (mut a, mut b) = (t0 - h, t0 + h);
+    let (mut ga, mut gb) = (g(a), g(b));
+    if !(ga * gb < 0.0) {
+        return t0;
+    }
+    let mut side = 0;
+    for _ in 0..100 {
+        let t = (a * gb - b * ga) / (gb - ga);
+        let gt = g(t);
+        if gt == 0.0 || (b - a).abs() <= 4.0 * f64::EPSILON * t.abs().max(1e-300) {
+            return t;
+        }
+        if gt * gb < 0.0 {
+            (a, ga) = (b, gb);
+            (b, gb) = (t, gt);
+            side = 0;
+        } else {
+            (b, gb) = (t, gt);
+            side += 1;
+            if side >= 2 {
+                ga *= 0.5;
+            }
+        }
+        if (b - a).abs() <= 2.0 * f64::EPSILON * b.abs().max(1e-300) {
+            break;
+        }
+    }
+    b
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Minimum of a unimodal `f` on [lo, hi] by Brent's method (golden section with parabolic
+/// steps), to an absolute tolerance `tol` in the argument.
+pub(crate) fn brent_minimum(f: impl Fn(f64) -> f64, lo: f64, hi: f64, tol: f64) -> f64 {
+    const GOLDEN: f64 = 0.381_966_011_250_105_1;
+    let (mut a, mut b) = (lo, hi);
+    let mut x = 0.5 * (a + b);
+    let (mut w, mut v) = (x, x);
+    let mut fx = f(x);
+    let (mut fw, mut fv) = (fx, fx);
+    let (mut d, mut e): (f64, f64) = (0.0, 0.0);
+    for _ in 0..200 {
+        let m = 0.5 * (a + b);
+        let tol1 = tol + 1e-12 * x.abs();
+        let tol2 = 2.0 * tol1;
+        if (x - m).abs() <= tol2 - 0.5 * (b - a) {
+            break;
+        }
+        let mut golden = true;
+        if e.abs() > tol1 {
+            // Parabola through x, w, v.
+            let r = (x - w) * (fx - fv);
+            let q0 = (x - v) * (fx - fw);
+            let mut p = (x - v) * q0 - (x - w) * r;
+            let mut q = 2.0 * (q0 - r);
+            if q > 0.0 {
+                p = -p;
+            }
+            q = q.abs();
+            if p.abs() < (0.5 * q * e).abs() && p > q * (a - x) && p < q * (b - x) {
+                e = d;
+                d = p / q;
+                let u = x + d;
+                if u - a < tol2 || b - u < tol2 {
+                    d = if x < m { tol1 } else { -tol1 };
+                }
+                golden = false;
+            }
+        }
+        if golden {
+            e = if x < m { b - x } else { a - x };
+            d = GOLDEN * e;
+        }
+        let u = if d.abs() >= tol1 {
+            x + d
+        } else if d > 0.0 {
+            x + tol1
+        } else {
+            x - tol1
+        };
+        let fu = f(u);
+        if fu <= fx {
+            if u < x {
+                b = x;
+            } else {
+                a = x;
+            }
+            (v, fv, w, fw, x, fx) = (w, fw, x, fx, u, fu);
+        } else {
+            if u < x {
+                a = u;
+            } else {
+                b = u;
+            }
+            if fu <= fw || w == x {
+                (v, fv, w, fw) = (w, fw, u, fu);
+            } else if fu <= fv || v == x || v == w {
+                (v, fv) = (u, fu);
+            }
+        }
+    }
+    x
+}
+
+fn polyline_length(points: &[[f64; 3]]) -> f64 {
+    points.windows(2).map(|w| distance(w[0], w[1])).sum()
+}
+
+pub(crate) fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_nurbs::inversion::closest_point_on_surface;
+    use hocurve_nurbs::shapes::{cylinder, sphere};
+    use hocurve_nurbs::NurbsSurface;
+
+    fn param_of(s: &NurbsSurface, x: [f64; 3]) -> [f64; 2] {
+        closest_point_on_surface(s, x).param
+    }
+
+    fn unit(v: [f64; 3]) -> [f64; 3] {
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        [v[0] / n, v[1] / n, v[2] / n]
+    }
+
+    fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    }
+
+    fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+        a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    }
+
+    #[test]
+    fn on_a_sphere_the_path_is_the_great_circle_arc() {
+        let s = sphere([0.0; 3], 2.0).expect("sphere");
+        let chart = SurfaceChart::new(&s);
+        // Pairs: generic, across the seam (u = 0 is the +x meridian), from the pole.
+        let pairs = [
+            (unit([1.0, 0.3, 0.2]), unit([0.2, 1.0, -0.4])),
+            (unit([0.8, -0.3, 0.1]), unit([0.9, 0.35, -0.2])),
+            ([0.0, 0.0, 1.0], unit([0.5, 0.4, 0.6])),
+            (unit([-0.3, 0.2, -0.9]), unit([0.4, -0.5, -0.7])),
+        ];
+        for (a, b) in pairs {
+            let (xa, xb) = (
+                [2.0 * a[0], 2.0 * a[1], 2.0 * a[2]],
+                [2.0 * b[0], 2.0 * b[1], 2.0 * b[2]],
+            );
+            let path = GeodesicPath::between(
+                &chart,
+                param_of(&s, xa),
+                param_of(&s, xb),
+                DEFAULT_LENGTH_TOLERANCE,
+            );
+            let exact = 2.0 * dot(a, b).clamp(-1.0, 1.0).acos();
+            assert!(
+                ((path.length() - exact) / exact).abs() < 1e-6,
+                "{} vs {exact}",
+                path.length()
+            );
+            let n = unit(cross(a, b));
+            for x in &path.points {
+                assert!(
+                    dot(*x, n).abs() < 1e-6 * 2.0,
+                    "off the great-circle plane: {}",
+                    dot(*x, n)
+                );
+                assert!((dot(*x, *x).sqrt() - 2.0).abs() < 1e-13);
+            }
+            // Ends are the given points.
+            assert!(
+                distance(path.points[0], xa) < 1e-12
+                    && distance(*path.points.last().unwrap(), xb) < 1e-12
+            );
+            // Points at fractions: on the sphere and at the right angle from a.
+            for k in 1..10 {
+                let f = k as f64 / 10.0;
+                let (_, x) = path.at_fraction(&chart, f);
+                assert!((dot(x, x).sqrt() - 2.0).abs() < 1e-13);
+                let angle = dot(unit(x), a).clamp(-1.0, 1.0).acos();
+                assert!(
+                    (angle * 2.0 / exact - f).abs() < 1e-6,
+                    "{f}: {}",
+                    angle * 2.0 / exact
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn on_a_cylinder_the_path_is_the_helix() {
+        let (r, h, theta) = (1.5f64, 2.0f64, 1.2f64);
+        let s = cylinder([0.0; 3], [0.0, 0.0, 1.0], r, (-1.0, 3.0)).expect("cylinder");
+        let chart = SurfaceChart::new(&s);
+        let xa = [r, 0.0, 0.0];
+        let xb = [r * theta.cos(), r * theta.sin(), h];
+        let path = GeodesicPath::between(
+            &chart,
+            param_of(&s, xa),
+            param_of(&s, xb),
+            DEFAULT_LENGTH_TOLERANCE,
+        );
+        let exact = (r * theta).hypot(h);
+        assert!(((path.length() - exact) / exact).abs() < 1e-6);
+        for x in &path.points {
+            let angle = x[1].atan2(x[0]);
+            assert!(
+                (x[2] / h - angle / theta).abs() < 1e-6,
+                "not on the helix: {x:?}"
+            );
+            assert!((x[0].hypot(x[1]) - r).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn on_a_plane_the_path_is_the_straight_segment() {
+        // A bilinear patch of the plane z = 0.5x + 0.25y with a non-uniform parametrisation.
+        let s = NurbsSurface::new(
+            1,
+            2,
+            vec![0.0, 0.0, 1.0, 1.0],
+            vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+            vec![
+                [0.0, 0.0, 0.0],
+                [0.0, 0.2, 0.05],
+                [0.0, 2.0, 0.5],
+                [3.0, 0.0, 1.5],
+                [3.0, 0.5, 1.625],
+                [3.0, 2.0, 2.0],
+            ],
+            vec![1.0; 6],
+        )
+        .expect("patch");
+        let chart = SurfaceChart::new(&s);
+        let xa = [0.2, 0.3, 0.175];
+        let xb = [2.5, 1.7, 1.675];
+        let path = GeodesicPath::between(
+            &chart,
+            param_of(&s, xa),
+            param_of(&s, xb),
+            DEFAULT_LENGTH_TOLERANCE,
+        );
+        let exact = distance(xa, xb);
+        assert!(((path.length() - exact) / exact).abs() < 1e-12);
+        for k in 0..=8 {
+            let f = k as f64 / 8.0;
+            let (_, x) = path.at_fraction(&chart, f);
+            let straight = [
+                xa[0] + f * (xb[0] - xa[0]),
+                xa[1] + f * (xb[1] - xa[1]),
+                xa[2] + f * (xb[2] - xa[2]),
+            ];
+            assert!(distance(x, straight) < 1e-9, "{f}: {x:?} vs {straight:?}");
+        }
+    }
+
+    #[test]
+    fn brent_finds_the_minimum_of_a_parabola_and_of_a_skewed_function() {
+        let t = brent_minimum(|t| (t - 0.123).powi(2) + 1.0, -0.5, 0.5, 1e-12);
+        assert!((t - 0.123).abs() < 1e-9);
+        let t = brent_minimum(
+            |t| (t + 0.3).cosh() + 0.1 * (t + 0.3).powi(4),
+            -0.5,
+            0.5,
+            1e-12,
+        );
+        assert!((t + 0.3).abs() < 1e-6);
+    }
+}
