@@ -201,7 +201,8 @@ pub fn associate_boundary(
         .iter()
         .map(|(v, e)| (*v, e.clone()))
         .collect();
-    let snapped: Vec<Result<(u32, [f64; 3], f64), GeodesicError>> = work
+    type Snapped = Result<(u32, [f64; 3], f64), GeodesicError>;
+    let snapped: Vec<Snapped> = work
         .par_iter()
         .map(|(v, entities)| {
             let x = mesh.vertices[*v as usize];

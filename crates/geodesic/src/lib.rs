@@ -5,10 +5,12 @@
 pub mod association;
 pub mod chart;
 pub mod path;
+pub mod placement;
 
 pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
 pub use chart::SurfaceChart;
 pub use path::GeodesicPath;
+pub use placement::{place_boundary_nodes, BoundaryNodeStrategy, BoundaryTargets};
 
 /// What went wrong while putting boundary nodes on the geometry.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -32,6 +34,9 @@ pub enum GeodesicError {
         mesh_dim: usize,
         facet_vertices: Vec<u32>,
     },
+    /// The mesh, the association and the geometry do not belong together.
+    #[error("{0}")]
+    Mismatch(String),
 }
 
 #[cfg(test)]

@@ -12,11 +12,11 @@
 use crate::chart::SurfaceChart;
 
 /// Default relative tolerance on the change of the polyline length between refinements.
-pub const DEFAULT_LENGTH_TOLERANCE: f64 = 1e-9;
+pub const DEFAULT_LENGTH_TOLERANCE: f64 = 1e-10;
 /// At least this many segments.
 const MIN_SEGMENTS: usize = 4;
 /// At most this many segments.
-const MAX_SEGMENTS: usize = 1024;
+const MAX_SEGMENTS: usize = 256;
 
 /// A polyline on a surface approximating the geodesic between its ends.
 #[derive(Debug, Clone, PartialEq)]
@@ -57,7 +57,7 @@ impl GeodesicPath {
             params = fine_params;
             points = fine_points;
             // Correct the points from their new neighbours (Fig. 3c): old points first, then new.
-            for parity in [0, 1] {
+            for parity in [0] {
                 for i in 1..params.len() - 1 {
                     if i % 2 == parity {
                         let (m, x) = bisector_minimum(
@@ -90,8 +90,8 @@ impl GeodesicPath {
         let mut lengths = Vec::with_capacity(points.len());
         let mut total = 0.0;
         lengths.push(0.0);
-        for w in points.windows(2) {
-            total += distance(w[0], w[1]);
+        for i in 0..points.len().saturating_sub(1) {
+            total += segment_arc(&points, i).0;
             lengths.push(total);
         }
         Self {
@@ -101,7 +101,8 @@ impl GeodesicPath {
         }
     }
 
-    /// Length of the polyline.
+    /// Length of the path: the polyline's segments measured as circular arcs (see
+    /// `segment_arc`).
     pub fn length(&self) -> f64 {
         self.lengths.last().copied().unwrap_or(0.0)
     }
@@ -127,10 +128,18 @@ impl GeodesicPath {
             .clamp(1, n - 1)
             - 1;
         let seg = self.lengths[k + 1] - self.lengths[k];
-        let t = if seg > 0.0 {
+        let tau = if seg > 0.0 {
             (target - self.lengths[k]) / seg
         } else {
             0.0
+        };
+        // The point at arc fraction τ of the segment's circular arc seen from the circle's
+        // centre crosses the chord at t = ½ (1 + tan((τ − ½)φ) / tan(φ/2)).
+        let phi = segment_arc(&self.points, k).1;
+        let t = if phi > 1e-6 {
+            0.5 * (1.0 + ((tau - 0.5) * phi).tan() / (0.5 * phi).tan())
+        } else {
+            tau
         };
         let (a, b) = (self.params[k], self.params[k + 1]);
         let (xa, xb) = (self.points[k], self.points[k + 1]);
@@ -209,8 +218,12 @@ fn bisector_minimum(
         ];
         dot([ea[0] + eb[0], ea[1] + eb[1], ea[2] + eb[2]], tangent)
     };
-    let t0 = brent_minimum(cost, -0.5, 0.5, 1e-8);
-    let t = polish_root(slope, t0, 1e-6);
+    // The root is usually bracketed by the whole bisector; Brent's minimum is the fallback.
+    let t = if slope(-0.5) < 0.0 && slope(0.5) > 0.0 {
+        polish_root(slope, 0.0, 0.5)
+    } else {
+        polish_root(slope, brent_minimum(cost, -0.5, 0.5, 1e-8), 1e-6)
+    };
     let uv = at(t);
     (uv, chart.point(uv))
 }
@@ -231,7 +244,7 @@ fn unit_from(from: [f64; 3], x: [f64; 3]) -> [f64; 3] {
 fn polish_root(g: impl Fn(f64) -> f64, t0: f64, h: f64) -> f64 {
     let (mut a, mut b) = (t0 - h, t0 + h);
     let (mut ga, mut gb) = (g(a), g(b));
-    if !(ga * gb < 0.0) {
+    if ga * gb >= 0.0 || ga.is_nan() || gb.is_nan() {
         return t0;
     }
     let mut side = 0;
@@ -337,7 +350,57 @@ pub(crate) fn brent_minimum(f: impl Fn(f64) -> f64, lo: f64, hi: f64, tol: f64) 
 }
 
 fn polyline_length(points: &[[f64; 3]]) -> f64 {
-    points.windows(2).map(|w| distance(w[0], w[1])).sum()
+    (0..points.len().saturating_sub(1))
+        .map(|i| segment_arc(points, i).0)
+        .sum()
+}
+
+/// Length of segment `i` of a polyline seen as an arc of the circle through it and its
+/// neighbours (mean curvature of the circles through (i−1, i, i+1) and (i, i+1, i+2)), and the
+/// angle φ it subtends. Exact for a circle — a great circle on a sphere — and fourth-order
+/// accurate for a smooth curve, where the chord alone is only second-order.
+fn segment_arc(points: &[[f64; 3]], i: usize) -> (f64, f64) {
+    let c = distance(points[i], points[i + 1]);
+    let mut curvature = 0.0;
+    let mut count = 0.0;
+    if i > 0 {
+        curvature += circle_curvature(points[i - 1], points[i], points[i + 1]);
+        count += 1.0;
+    }
+    if i + 2 < points.len() {
+        curvature += circle_curvature(points[i], points[i + 1], points[i + 2]);
+        count += 1.0;
+    }
+    if count == 0.0 {
+        return (c, 0.0);
+    }
+    let kappa = curvature / count;
+    // Chord c of a circle of radius 1/κ subtends φ = 2 asin(κc/2); the arc is φ/κ.
+    let half = (0.5 * kappa * c).min(1.0);
+    if half < 1e-8 {
+        return (c * (1.0 + half * half / 6.0), 2.0 * half);
+    }
+    let phi = 2.0 * half.asin();
+    (phi / kappa, phi)
+}
+
+/// Curvature 1/R of the circle through three points: 4·area / (|ab| |bc| |ca|).
+fn circle_curvature(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
+    let (ab, bc, ca) = (distance(a, b), distance(b, c), distance(c, a));
+    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
+    let cr = [
+        u[1] * v[2] - u[2] * v[1],
+        u[2] * v[0] - u[0] * v[2],
+        u[0] * v[1] - u[1] * v[0],
+    ];
+    let twice_area = dot(cr, cr).sqrt();
+    let denom = ab * bc * ca;
+    if denom > 0.0 {
+        2.0 * twice_area / denom
+    } else {
+        0.0
+    }
 }
 
 pub(crate) fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {

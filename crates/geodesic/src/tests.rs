@@ -134,3 +134,227 @@ fn a_surface_for_a_2d_mesh_is_an_error() {
         "{err}"
     );
 }
+
+mod placement {
+    use super::*;
+    use crate::{place_boundary_nodes, BoundaryNodeStrategy};
+    use hocurve_mesh::{Element, ElementType, HighOrderMesh, PhysicalGroup};
+    use hocurve_nodes::{NodeFamily, ReferenceNodes, Shape};
+    use hocurve_nurbs::shapes::circle;
+    use std::collections::BTreeMap;
+
+    fn norm(x: [f64; 3]) -> f64 {
+        (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt()
+    }
+
+    fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
+        let d = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (norm(a) * norm(b));
+        d.clamp(-1.0, 1.0).acos()
+    }
+
+    /// For every curved facet edge: the fractions of the edge's interior nodes along it
+    /// (measured by `along` from the facet's local vertex i), next to the reference ones.
+    fn edge_fractions(
+        mesh: &HighOrderMesh,
+        curved: &[bool],
+        targets: &BTreeMap<u32, [f64; 3]>,
+        along: impl Fn([f64; 3], [f64; 3]) -> f64,
+    ) -> Vec<(f64, f64)> {
+        let mut out = vec![];
+        for (facet, &c) in mesh.facets.iter().zip(curved) {
+            if !c {
+                continue;
+            }
+            let shape = facet.kind.shape().unwrap();
+            let r = ReferenceNodes::new(shape, mesh.order, mesh.family);
+            let edges: Vec<[usize; 2]> = if shape == Shape::Line {
+                vec![[0, 1]]
+            } else {
+                shape.edges().to_vec()
+            };
+            for (n, (xi, ent)) in facet.nodes.iter().zip(r.points().iter().zip(r.entities())) {
+                let (i, j) = match (shape, *ent) {
+                    (Shape::Line, hocurve_nodes::NodeEntity::Interior(_)) => (0, 1),
+                    (_, hocurve_nodes::NodeEntity::Edge { edge, .. }) => {
+                        (edges[edge][0], edges[edge][1])
+                    }
+                    _ => continue,
+                };
+                let (vi, vj) = (shape.vertices()[i], shape.vertices()[j]);
+                let reference = crate::path::distance(vi, *xi) / crate::path::distance(vi, vj);
+                let (a, b) = (targets[&facet.nodes[i]], targets[&facet.nodes[j]]);
+                out.push((along(a, targets[n]) / along(a, b), reference));
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn sphere_fixture_nodes_lie_on_the_sphere_at_arc_length_fractions() {
+        let linear = fixture("sphere/sphere.msh");
+        let model = sphere_model("sphere", 1.0);
+        let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
+        for family in [NodeFamily::Fekete, NodeFamily::Equispaced] {
+            let mesh = HighOrderMesh::from_linear(&linear, 4, family).unwrap();
+            let t =
+                place_boundary_nodes(&mesh, &model, &a, BoundaryNodeStrategy::Geodesic).unwrap();
+            assert_eq!(t.curved_facets, a.by_name);
+            let curved: Vec<bool> = a.facet_entity.iter().map(|e| e.is_some()).collect();
+            let expected: std::collections::BTreeSet<u32> = mesh
+                .facets
+                .iter()
+                .zip(&curved)
+                .filter(|(_, &c)| c)
+                .flat_map(|(f, _)| f.nodes.iter().copied())
+                .collect();
+            assert_eq!(t.targets.len(), expected.len());
+            for x in t.targets.values() {
+                assert!((norm(*x) - 1.0).abs() < 1e-13, "{}", norm(*x) - 1.0);
+            }
+            assert!(t.max_geometry_distance < 1e-13);
+            for (f, r) in edge_fractions(&mesh, &curved, &t.targets, angle) {
+                assert!((f - r).abs() < 1e-10, "{f} vs {r}");
+            }
+        }
+    }
+
+    /// Max over edges of (largest / smallest) spacing of consecutive nodes relative to the
+    /// reference spacing.
+    fn spacing_ratio(
+        mesh: &HighOrderMesh,
+        curved: &[bool],
+        targets: &BTreeMap<u32, [f64; 3]>,
+    ) -> f64 {
+        let fr = edge_fractions(mesh, curved, targets, angle);
+        let p = mesh.order;
+        let mut worst: f64 = 1.0;
+        for chunk in fr.chunks(p - 1) {
+            let mut f: Vec<(f64, f64)> = chunk.to_vec();
+            f.sort_by(|a, b| a.1.total_cmp(&b.1));
+            f.insert(0, (0.0, 0.0));
+            f.push((1.0, 1.0));
+            let ratios: Vec<f64> = f
+                .windows(2)
+                .map(|w| (w[1].0 - w[0].0) / (w[1].1 - w[0].1))
+                .collect();
+            let max = ratios.iter().cloned().fold(0.0, f64::max);
+            let min = ratios.iter().cloned().fold(f64::INFINITY, f64::min);
+            worst = worst.max(max / min);
+        }
+        worst
+    }
+
+    #[test]
+    fn geodesic_placement_spaces_nodes_more_evenly_than_projection() {
+        let linear = fixture("sphere/sphere.msh");
+        let model = sphere_model("sphere", 1.0);
+        let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
+        let mesh = HighOrderMesh::from_linear(&linear, 4, NodeFamily::Equispaced).unwrap();
+        let curved: Vec<bool> = a.facet_entity.iter().map(|e| e.is_some()).collect();
+        let g = place_boundary_nodes(&mesh, &model, &a, BoundaryNodeStrategy::Geodesic).unwrap();
+        let p = place_boundary_nodes(&mesh, &model, &a, BoundaryNodeStrategy::Projection).unwrap();
+        let (rg, rp) = (
+            spacing_ratio(&mesh, &curved, &g.targets),
+            spacing_ratio(&mesh, &curved, &p.targets),
+        );
+        println!("sphere p = 4 spacing ratio max/min: geodesic {rg:.6}, projection {rp:.6}");
+        assert!(rg < 1.0 + 1e-8 && rp > rg, "geodesic {rg}, projection {rp}");
+        for x in p.targets.values() {
+            assert!((norm(*x) - 1.0).abs() < 1e-13);
+        }
+    }
+
+    #[test]
+    fn circle_edges_in_2d_follow_arc_length() {
+        let linear = fixture("naca0012/naca0012.msh");
+        let mut e = GeometricEntity::new(
+            "farfield",
+            "test",
+            EntityGeometry::Curve(circle([0.5, 0.0, 0.0], [0.0, 0.0, 1.0], 10.0).unwrap()),
+        );
+        e.analytic =
+            Some(AnalyticShape::new_circle([0.5, 0.0, 0.0], [0.0, 0.0, 1.0], 10.0).unwrap());
+        let model = GeometryModel { entities: vec![e] };
+        let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
+        assert!(a.by_name > 10);
+        let mesh = HighOrderMesh::from_linear(&linear, 5, NodeFamily::Fekete).unwrap();
+        let t = place_boundary_nodes(&mesh, &model, &a, BoundaryNodeStrategy::Geodesic).unwrap();
+        let c = [0.5, 0.0, 0.0];
+        let rel = |x: [f64; 3]| [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+        for x in t.targets.values() {
+            assert!((norm(rel(*x)) - 10.0).abs() < 1e-13 * 10.0);
+        }
+        let curved: Vec<bool> = a.facet_entity.iter().map(|e| e.is_some()).collect();
+        let fr = edge_fractions(&mesh, &curved, &t.targets, |a, b| angle(rel(a), rel(b)));
+        assert_eq!(fr.len(), a.by_name * 4);
+        for (f, r) in fr {
+            assert!((f - r).abs() < 1e-10, "{f} vs {r}");
+        }
+    }
+
+    /// One tet whose face (1, 0, 0), (0, 1, 0), (0, 0, 1) lies on the unit sphere's octant.
+    fn octant_tet() -> LinearMesh {
+        let mut entity_physicals = BTreeMap::new();
+        entity_physicals.insert((2, 1), vec![7]);
+        LinearMesh {
+            dim: 3,
+            vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            cells: vec![Element {
+                kind: ElementType::Tet,
+                vertices: vec![0, 1, 2, 3],
+                entity: 1,
+            }],
+            facets: vec![Element {
+                kind: ElementType::Tri,
+                vertices: vec![1, 2, 3],
+                entity: 1,
+            }],
+            physical_groups: vec![PhysicalGroup {
+                dim: 2,
+                tag: 7,
+                name: "sphere".into(),
+            }],
+            entity_physicals,
+        }
+    }
+
+    #[test]
+    fn an_equilateral_spherical_triangle_gets_a_symmetric_node_pattern() {
+        let linear = octant_tet();
+        let model = sphere_model("sphere", 1.0);
+        let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, Some(1e-9)).unwrap();
+        for family in [
+            NodeFamily::Fekete,
+            NodeFamily::Equispaced,
+            NodeFamily::GaussLobatto,
+            NodeFamily::WarpBlend,
+        ] {
+            for p in [3, 5, 6] {
+                let mesh = HighOrderMesh::from_linear(&linear, p, family).unwrap();
+                let t = place_boundary_nodes(&mesh, &model, &a, BoundaryNodeStrategy::Geodesic)
+                    .unwrap();
+                let points: Vec<[f64; 3]> =
+                    mesh.facets[0].nodes.iter().map(|n| t.targets[n]).collect();
+                assert_eq!(points.len(), Shape::Tri.num_nodes(p));
+                for x in &points {
+                    assert!((norm(*x) - 1.0).abs() < 1e-13);
+                }
+                // The rotation (x, y, z) -> (y, z, x) maps the pattern onto itself, and so does the
+                // reflection swapping x and y.
+                for map in [
+                    |x: [f64; 3]| [x[1], x[2], x[0]],
+                    |x: [f64; 3]| [x[1], x[0], x[2]],
+                ] {
+                    for x in &points {
+                        let y = map(*x);
+                        let nearest = points
+                            .iter()
+                            .map(|z| crate::path::distance(*z, y))
+                            .fold(f64::INFINITY, f64::min);
+                        assert!(nearest < 1e-8, "{family:?} p={p}: {nearest}");
+                    }
+                }
+            }
+        }
+    }
+}

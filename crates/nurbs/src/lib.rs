@@ -2,7 +2,8 @@
 //! ([`basis`]), rational curves ([`NurbsCurve`]) and surfaces ([`NurbsSurface`]) with first and
 //! second derivatives and knot insertion, exact rational representations of circles, spheres,
 //! cylinders and tori with closed-form projections ([`shapes`]), point inversion
-//! ([`inversion`]) and arc length with its inverse ([`arc_length`]).
+//! ([`inversion`]) and arc length with its inverse ([`arc_length`]); NACA 4-digit airfoils as
+//! interpolating cubic B-splines ([`naca`]) and the JSON geometry input ([`json`]).
 //!
 //! ```
 //! use hocurve_nurbs::shapes;
@@ -19,12 +20,16 @@ pub mod curve;
 mod error;
 pub mod iges;
 pub mod inversion;
+pub mod json;
 pub mod model;
+pub mod naca;
 pub mod shapes;
 pub mod surface;
 pub(crate) mod vec3;
 
 pub use curve::NurbsCurve;
 pub use error::NurbsError;
+pub use json::{parse_geometry_json, read_geometry_json, GeometryInputError};
 pub use model::{EntityGeometry, EntityPoint, GeometricEntity, GeometryModel};
+pub use naca::Naca4;
 pub use surface::{NurbsSurface, SurfaceDerivatives};

@@ -1,21 +1,26 @@
-//! IGES 5.3 input (fixed ASCII form): the parsing layer.
+//! IGES 5.3 input (fixed ASCII form): parsing, and conversion to exact NURBS.
 //!
 //! [`parse_iges`] splits the file into its 80-column records (section letter in column 73,
 //! sequence number in columns 74–80), reads the Global section (delimiters, units, model
 //! scale, resolution), the Directory Entry pairs and the free-format Parameter Data of every
 //! entity (columns 1–64, back-pointer to the DE in columns 66–72; Hollerith strings `nH...`,
 //! reals with `E` or `D` exponents), and returns each entity as a typed record
-//! ([`EntityData`]). Nothing is evaluated here: converting the records to NURBS is a later
-//! step, which reports [`EntityData::Unsupported`] entities with their type and line.
+//! ([`EntityData`]). Nothing is evaluated by the parser. [`geometry_from_iges`] (or
+//! [`read_iges_geometry`]) then converts the independent entities to exact rational NURBS
+//! curves and surfaces (a [`crate::GeometryModel`]), reporting unsupported entities with their
+//! type and line.
 //!
 //! Every error names the 1-based line of the file and what was expected and found.
 
+mod constructions;
+mod convert;
 mod entities;
 mod sections;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
+pub use convert::{geometry_from_iges, read_iges_geometry, RECOGNITION_TOLERANCE};
 pub use entities::{BSplineCurveData, BSplineSurfaceData, EntityData};
 pub use sections::{parse_int, parse_real, DirectoryEntry, GlobalSection, Param, ParamValue};
 
@@ -66,6 +71,27 @@ pub enum IgesError {
         expected: &'static str,
         found: String,
     },
+    /// An entity type that is not converted (or a form of it, e.g. a hyperbolic 104), as a
+    /// model entity or referenced by one; `context` says which or why.
+    #[error("IGES line {line}: entity type {entity_type} (DE {de}) is not supported{context}")]
+    Unsupported {
+        line: usize,
+        de: u32,
+        entity_type: i32,
+        context: String,
+    },
+    /// An entity whose data do not describe valid geometry (zero radius, gaps between the
+    /// members of a composite curve, a non-line axis, ...).
+    #[error("IGES line {line}: entity type {entity_type} (DE {de}): {reason}")]
+    Geometry {
+        line: usize,
+        de: u32,
+        entity_type: i32,
+        reason: String,
+    },
+    /// A 108 plane with no boundary, in a model with nothing else to size its patch by.
+    #[error("IGES line {line}: plane (entity type 108, DE {de}) has no boundary and the model nothing else to bound it")]
+    UnboundedPlane { line: usize, de: u32 },
 }
 
 impl IgesError {
@@ -77,7 +103,10 @@ impl IgesError {
             | IgesError::Section { line, .. }
             | IgesError::Sequence { line, .. }
             | IgesError::BackPointer { line, .. }
-            | IgesError::Parameter { line, .. } => Some(*line),
+            | IgesError::Parameter { line, .. }
+            | IgesError::Unsupported { line, .. }
+            | IgesError::Geometry { line, .. }
+            | IgesError::UnboundedPlane { line, .. } => Some(*line),
         }
     }
 }

@@ -3,7 +3,7 @@ use std::collections::BTreeMap;
 use super::sections::{tokenize, Record, Stream};
 use super::*;
 
-fn fixture(rel: &str) -> String {
+pub(super) fn fixture(rel: &str) -> String {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../fixtures")
         .join(rel);
@@ -36,14 +36,14 @@ fn record(data: &str, letter: char, seq: usize) -> String {
 }
 
 /// Entity for the synthetic file builder.
-struct E<'a> {
-    ty: i32,
-    form: i32,
-    transform: u32,
-    params: &'a str,
+pub(super) struct E<'a> {
+    pub ty: i32,
+    pub form: i32,
+    pub transform: u32,
+    pub params: &'a str,
 }
 
-fn ent(ty: i32, params: &str) -> E<'_> {
+pub(super) fn ent(ty: i32, params: &str) -> E<'_> {
     E {
         ty,
         form: 0,
@@ -52,10 +52,10 @@ fn ent(ty: i32, params: &str) -> E<'_> {
     }
 }
 
-const GLOBAL: &str = "1H,,1H;,4Htest,8Htest.igs,6Hhocurv,3H1.0,32,308,15,308,15,,1.0,2,2HMM,1,0.01,15H20260101.000000,1E-07,10.,4Hnone,,11,0,15H20260101.000000;";
+pub(super) const GLOBAL: &str = "1H,,1H;,4Htest,8Htest.igs,6Hhocurv,3H1.0,32,308,15,308,15,,1.0,2,2HMM,1,0.01,15H20260101.000000,1E-07,10.,4Hnone,,11,0,15H20260101.000000;";
 
 /// Writes a well-formed fixed-format IGES file.
-fn build(global: &str, ents: &[E<'_>]) -> String {
+pub(super) fn build(global: &str, ents: &[E<'_>]) -> String {
     let mut out = record("synthetic test file", 'S', 1);
     let gb = global.as_bytes();
     let mut g = 0;

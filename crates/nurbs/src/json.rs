@@ -1,0 +1,868 @@
+//! Geometry input as JSON: a list of named entities (analytic shapes, NACA airfoils, explicit
+//! NURBS) turned into a [`GeometryModel`]. Analytic kinds get their exact rational NURBS from
+//! [`crate::shapes`] and their closed form as [`AnalyticShape`]; `naca4` gets the interpolating
+//! spline of [`Naca4::curve`].
+//!
+//! # Schema
+//!
+//! ```json
+//! {
+//!   "entities": [
+//!     {"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": 1},
+//!     {"name": "airfoil", "kind": "naca4", "digits": "0012", "chord": 1,
+//!      "closed_trailing_edge": true},
+//!     {"name": "ring", "kind": "torus", "center": [0, 0, 0], "axis": [0, 0, 1],
+//!      "major_radius": 2, "minor_radius": 0.5},
+//!     {"name": "pipe", "kind": "cylinder", "point": [0, 0, 0], "axis": [0, 0, 2],
+//!      "radius": 0.5},
+//!     {"name": "farfield", "kind": "circle", "center": [0.5, 0], "radius": 10},
+//!     {"name": "arc", "kind": "nurbs_curve", "degree": 2, "knots": [0, 0, 0, 1, 1, 1],
+//!      "control_points": [[1, 0], [1, 1], [0, 1]], "weights": [1, 0.7071067811865476, 1]},
+//!     {"name": "patch", "kind": "nurbs_surface", "degree": [1, 1],
+//!      "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
+//!      "control_points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 1]]]}
+//!   ]
+//! }
+//! ```
+//!
+//! Rules (every entity is an object with a `"kind"`; lengths in model units):
+//!
+//! | kind | fields (optional ones with their default) |
+//! |---|---|
+//! | `sphere` | `center` `[x, y, z]`, `radius` > 0 (NURBS axis z, poles at ±z) |
+//! | `torus` | `center`, `axis` `[x, y, z]`, `major_radius` > `minor_radius` > 0 |
+//! | `cylinder` | `point` on the axis, `axis` `[x, y, z]`, `radius` > 0, `axial_range` `[t0, t1]` = `[0, ‖axis‖]` |
+//! | `circle` | `center` `[x, y]` (z = 0) or `[x, y, z]`, `normal` = `[0, 0, 1]`, `radius` > 0 |
+//! | `naca4` | `digits` `"MPTT"` (a string), `chord` = 1, `closed_trailing_edge` = false |
+//! | `nurbs_curve` | `degree`, `knots`, `control_points` `[[x, y] or [x, y, z], …]`, `weights` = all 1 |
+//! | `nurbs_surface` | `degree` `[du, dv]`, `knots` `[[u…], [v…]]`, `control_points` nested: `[i][j]` = `[x, y, z]` (i along u, j along v), `weights` nested the same way = all 1 |
+//!
+//! - `name` is optional in every entity; the default is the kind followed by the entity's
+//!   index, e.g. `"circle4"`. Names must be non-empty and unique: they are matched against the
+//!   mesh's physical group names.
+//! - The cylinder is infinite for projection (its closed form); its NURBS patch covers the
+//!   axial coordinates `axial_range` measured from `point` along the unit axis, by default from
+//!   `point` to `point + axis` (the convention of Gmsh's and OpenCASCADE's cylinders).
+//! - The airfoil has its leading edge at the origin and its chord along +x; move the mesh, not
+//!   the airfoil.
+//! - Unknown fields are errors, as are unknown kinds, bad sizes, inconsistent knot vectors and
+//!   duplicate names; errors name the entity's index and name ([`GeometryInputError`]).
+//!
+//! ```
+//! let model = hocurve_nurbs::parse_geometry_json(
+//!     r#"{"entities": [{"name": "farfield", "kind": "circle", "center": [0.5, 0], "radius": 10}]}"#,
+//! )
+//! .unwrap();
+//! let far = model.entity("farfield").unwrap();
+//! assert!((far.distance([0.5, 3.0, 0.0]) - 7.0).abs() < 1e-14);
+//! ```
+
+use crate::naca::Naca4;
+use crate::shapes::{self, AnalyticShape};
+use crate::{EntityGeometry, GeometricEntity, GeometryModel, NurbsCurve, NurbsError, NurbsSurface};
+use serde::de::DeserializeOwned;
+use serde::Deserialize;
+use serde_json::{Map, Value};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// The entity kinds of the schema, in the order error messages list them.
+pub const KINDS: [&str; 7] = [
+    "sphere",
+    "torus",
+    "cylinder",
+    "circle",
+    "naca4",
+    "nurbs_curve",
+    "nurbs_surface",
+];
+
+/// What was wrong with a JSON geometry description, and where.
+#[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
+pub enum GeometryInputError {
+    /// The file could not be read.
+    #[error("cannot read geometry file {}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// Not valid JSON, or the top level is not `{"entities": [...]}` (serde_json's message
+    /// ends with the line and column).
+    #[error("invalid geometry JSON: {source}")]
+    Json {
+        /// 1-based line of the error.
+        line: usize,
+        /// 1-based column of the error.
+        column: usize,
+        #[source]
+        source: serde_json::Error,
+    },
+    /// An entry of `entities` that is not an object.
+    #[error("entity {index}: expected an object {{\"kind\": ..., ...}}")]
+    NotAnObject { index: usize },
+    /// An entity without `"kind"`.
+    #[error("entity {index}: missing \"kind\" (one of {})", KINDS.join(", "))]
+    MissingKind { index: usize },
+    /// A `"kind"` that is not one of [`KINDS`].
+    #[error("entity {index}: unknown kind {kind} (valid kinds: {})", KINDS.join(", "))]
+    UnknownKind {
+        index: usize,
+        /// The kind as written (JSON, with quotes for strings).
+        kind: String,
+    },
+    /// A missing, unknown or ill-typed field.
+    #[error("entity {index} (\"{name}\", {kind}): {source}")]
+    Field {
+        index: usize,
+        /// The entity's name as given (empty if none).
+        name: String,
+        kind: String,
+        #[source]
+        source: serde_json::Error,
+    },
+    /// Fields that do not fit together (a ragged control net, an empty name).
+    #[error("entity {index} (\"{name}\"): {reason}")]
+    Invalid {
+        index: usize,
+        name: String,
+        reason: String,
+    },
+    /// The fields describe no valid curve or surface (negative radius, wrong knot count, …).
+    #[error("entity {index} (\"{name}\"): {source}")]
+    Geometry {
+        index: usize,
+        name: String,
+        #[source]
+        source: NurbsError,
+    },
+    /// Two entities with the same name.
+    #[error("entity {index}: name \"{name}\" is already used by entity {first}")]
+    DuplicateName {
+        index: usize,
+        first: usize,
+        name: String,
+    },
+}
+
+/// The top level of the file.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Document {
+    entities: Vec<Value>,
+}
+
+/// `[x, y, z]`.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(try_from = "Vec<f64>")]
+struct Point3([f64; 3]);
+
+impl TryFrom<Vec<f64>> for Point3 {
+    type Error = String;
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        match v[..] {
+            [x, y, z] => Ok(Self([x, y, z])),
+            _ => Err(format!("expected [x, y, z], got {} numbers", v.len())),
+        }
+    }
+}
+
+/// `[x, y]` (z = 0) or `[x, y, z]`.
+#[derive(Deserialize, Clone, Copy)]
+#[serde(try_from = "Vec<f64>")]
+struct Point2or3([f64; 3]);
+
+impl TryFrom<Vec<f64>> for Point2or3 {
+    type Error = String;
+    fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        match v[..] {
+            [x, y] => Ok(Self([x, y, 0.0])),
+            [x, y, z] => Ok(Self([x, y, z])),
+            _ => Err(format!(
+                "expected [x, y] or [x, y, z], got {} numbers",
+                v.len()
+            )),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SphereSpec {
+    name: Option<String>,
+    center: Point3,
+    radius: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct TorusSpec {
+    name: Option<String>,
+    center: Point3,
+    axis: Point3,
+    major_radius: f64,
+    minor_radius: f64,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CylinderSpec {
+    name: Option<String>,
+    point: Point3,
+    axis: Point3,
+    radius: f64,
+    axial_range: Option<[f64; 2]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CircleSpec {
+    name: Option<String>,
+    center: Point2or3,
+    normal: Option<Point3>,
+    radius: f64,
+}
+
+fn unit_chord() -> f64 {
+    1.0
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct Naca4Spec {
+    name: Option<String>,
+    digits: String,
+    #[serde(default = "unit_chord")]
+    chord: f64,
+    #[serde(default)]
+    closed_trailing_edge: bool,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NurbsCurveSpec {
+    name: Option<String>,
+    degree: usize,
+    knots: Vec<f64>,
+    control_points: Vec<Point2or3>,
+    weights: Option<Vec<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct NurbsSurfaceSpec {
+    name: Option<String>,
+    degree: [usize; 2],
+    knots: [Vec<f64>; 2],
+    control_points: Vec<Vec<Point3>>,
+    weights: Option<Vec<Vec<f64>>>,
+}
+
+/// A parsed entity before naming: its optional name, NURBS and closed form.
+struct Parsed {
+    name: Option<String>,
+    geometry: EntityGeometry,
+    analytic: Option<AnalyticShape>,
+}
+
+/// Why a spec could not become geometry (turned into an error with the entity's index).
+enum SpecError {
+    Geometry(NurbsError),
+    Invalid(String),
+}
+
+impl From<NurbsError> for SpecError {
+    fn from(e: NurbsError) -> Self {
+        Self::Geometry(e)
+    }
+}
+
+/// Parses a JSON geometry description (schema in the module documentation).
+pub fn parse_geometry_json(text: &str) -> Result<GeometryModel, GeometryInputError> {
+    let document: Document =
+        serde_json::from_str(text).map_err(|source| GeometryInputError::Json {
+            line: source.line(),
+            column: source.column(),
+            source,
+        })?;
+    let mut entities: Vec<GeometricEntity> = Vec::with_capacity(document.entities.len());
+    let mut first_use: BTreeMap<String, usize> = BTreeMap::new();
+    for (index, value) in document.entities.into_iter().enumerate() {
+        let entity = parse_entity(index, value)?;
+        if let Some(&first) = first_use.get(&entity.name) {
+            return Err(GeometryInputError::DuplicateName {
+                index,
+                first,
+                name: entity.name,
+            });
+        }
+        first_use.insert(entity.name.clone(), index);
+        entities.push(entity);
+    }
+    Ok(GeometryModel { entities })
+}
+
+/// Reads and parses a JSON geometry file; entity origins name the file.
+pub fn read_geometry_json(path: &Path) -> Result<GeometryModel, GeometryInputError> {
+    let text = std::fs::read_to_string(path).map_err(|source| GeometryInputError::Io {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let mut model = parse_geometry_json(&text)?;
+    for entity in &mut model.entities {
+        entity.origin = format!("{}: {}", path.display(), entity.origin);
+    }
+    Ok(model)
+}
+
+fn parse_entity(index: usize, value: Value) -> Result<GeometricEntity, GeometryInputError> {
+    let Value::Object(mut fields) = value else {
+        return Err(GeometryInputError::NotAnObject { index });
+    };
+    let kind = match fields.remove("kind") {
+        Some(Value::String(kind)) if KINDS.contains(&kind.as_str()) => kind,
+        Some(other) => {
+            return Err(GeometryInputError::UnknownKind {
+                index,
+                kind: other.to_string(),
+            })
+        }
+        None => return Err(GeometryInputError::MissingKind { index }),
+    };
+    let given_name = fields
+        .get("name")
+        .and_then(Value::as_str)
+        .unwrap_or_default()
+        .to_owned();
+    let parsed = parse_fields(&kind, fields).map_err(|source| GeometryInputError::Field {
+        index,
+        name: given_name.clone(),
+        kind: kind.clone(),
+        source,
+    })?;
+    let parsed = parsed.map_err(|e| match e {
+        SpecError::Geometry(source) => GeometryInputError::Geometry {
+            index,
+            name: given_name.clone(),
+            source,
+        },
+        SpecError::Invalid(reason) => GeometryInputError::Invalid {
+            index,
+            name: given_name.clone(),
+            reason,
+        },
+    })?;
+    let name = parsed.name.unwrap_or_else(|| format!("{kind}{index}"));
+    if name.is_empty() {
+        return Err(GeometryInputError::Invalid {
+            index,
+            name,
+            reason: "the name is empty".into(),
+        });
+    }
+    Ok(GeometricEntity {
+        name,
+        origin: format!("JSON entity {index} ({kind})"),
+        geometry: parsed.geometry,
+        analytic: parsed.analytic,
+    })
+}
+
+fn spec<T: DeserializeOwned>(fields: Map<String, Value>) -> Result<T, serde_json::Error> {
+    serde_json::from_value(Value::Object(fields))
+}
+
+/// Deserialises the fields of `kind` (outer error) and builds the geometry (inner error).
+fn parse_fields(
+    kind: &str,
+    fields: Map<String, Value>,
+) -> Result<Result<Parsed, SpecError>, serde_json::Error> {
+    Ok(match kind {
+        "sphere" => build_sphere(spec(fields)?),
+        "torus" => build_torus(spec(fields)?),
+        "cylinder" => build_cylinder(spec(fields)?),
+        "circle" => build_circle(spec(fields)?),
+        "naca4" => build_naca4(spec(fields)?),
+        "nurbs_curve" => build_nurbs_curve(spec(fields)?),
+        _ => build_nurbs_surface(spec(fields)?),
+    })
+}
+
+fn build_sphere(s: SphereSpec) -> Result<Parsed, SpecError> {
+    Ok(Parsed {
+        geometry: EntityGeometry::Surface(shapes::sphere(s.center.0, s.radius)?),
+        analytic: Some(AnalyticShape::new_sphere(s.center.0, s.radius)?),
+        name: s.name,
+    })
+}
+
+fn build_torus(s: TorusSpec) -> Result<Parsed, SpecError> {
+    let (c, a) = (s.center.0, s.axis.0);
+    Ok(Parsed {
+        geometry: EntityGeometry::Surface(shapes::torus(c, a, s.major_radius, s.minor_radius)?),
+        analytic: Some(AnalyticShape::new_torus(
+            c,
+            a,
+            s.major_radius,
+            s.minor_radius,
+        )?),
+        name: s.name,
+    })
+}
+
+fn build_cylinder(s: CylinderSpec) -> Result<Parsed, SpecError> {
+    let (p, a) = (s.point.0, s.axis.0);
+    let length = a.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let [t0, t1] = s.axial_range.unwrap_or([0.0, length]);
+    Ok(Parsed {
+        geometry: EntityGeometry::Surface(shapes::cylinder(p, a, s.radius, (t0, t1))?),
+        analytic: Some(AnalyticShape::new_cylinder(p, a, s.radius)?),
+        name: s.name,
+    })
+}
+
+fn build_circle(s: CircleSpec) -> Result<Parsed, SpecError> {
+    let normal = s.normal.map_or([0.0, 0.0, 1.0], |n| n.0);
+    let c = s.center.0;
+    Ok(Parsed {
+        geometry: EntityGeometry::Curve(shapes::circle(c, normal, s.radius)?),
+        analytic: Some(AnalyticShape::new_circle(c, normal, s.radius)?),
+        name: s.name,
+    })
+}
+
+fn build_naca4(s: Naca4Spec) -> Result<Parsed, SpecError> {
+    let airfoil = Naca4::from_digits(&s.digits, s.chord, s.closed_trailing_edge)?;
+    Ok(Parsed {
+        geometry: EntityGeometry::Curve(airfoil.curve()?),
+        analytic: None,
+        name: s.name,
+    })
+}
+
+fn build_nurbs_curve(s: NurbsCurveSpec) -> Result<Parsed, SpecError> {
+    let points: Vec<[f64; 3]> = s.control_points.iter().map(|p| p.0).collect();
+    let weights = s.weights.unwrap_or_else(|| vec![1.0; points.len()]);
+    Ok(Parsed {
+        geometry: EntityGeometry::Curve(NurbsCurve::new(s.degree, s.knots, points, weights)?),
+        analytic: None,
+        name: s.name,
+    })
+}
+
+fn build_nurbs_surface(s: NurbsSurfaceSpec) -> Result<Parsed, SpecError> {
+    let [degree_u, degree_v] = s.degree;
+    let [knots_u, knots_v] = s.knots;
+    let n_u = s.control_points.len();
+    let n_v = s.control_points.first().map_or(0, Vec::len);
+    if let Some(i) = s.control_points.iter().position(|row| row.len() != n_v) {
+        return Err(SpecError::Invalid(format!(
+            "control point row {i} has {} points, row 0 has {n_v}",
+            s.control_points[i].len()
+        )));
+    }
+    // The nested net fixes n_u and n_v, so a knot vector of the wrong length is reported as
+    // such (rather than as a net of the wrong size).
+    for (degree, knots, count) in [(degree_u, &knots_u, n_u), (degree_v, &knots_v, n_v)] {
+        if knots.len() != count + degree + 1 {
+            return Err(NurbsError::KnotCount {
+                expected: count + degree + 1,
+                found: knots.len(),
+                control_points: count,
+                degree,
+            }
+            .into());
+        }
+    }
+    let weights = match s.weights {
+        Some(rows) => {
+            if rows.len() != n_u || rows.iter().any(|r| r.len() != n_v) {
+                return Err(SpecError::Invalid(format!(
+                    "weights must be nested like the control points ({n_u} rows of {n_v})"
+                )));
+            }
+            rows.concat()
+        }
+        None => vec![1.0; n_u * n_v],
+    };
+    let points = s.control_points.iter().flatten().map(|p| p.0).collect();
+    Ok(Parsed {
+        geometry: EntityGeometry::Surface(NurbsSurface::new(
+            degree_u, degree_v, knots_u, knots_v, points, weights,
+        )?),
+        analytic: None,
+        name: s.name,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vec3::{dot, norm, scale, sub};
+
+    /// The module documentation's example.
+    const EXAMPLE: &str = r#"{
+  "entities": [
+    {"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": 1},
+    {"name": "airfoil", "kind": "naca4", "digits": "0012", "chord": 1,
+     "closed_trailing_edge": true},
+    {"name": "ring", "kind": "torus", "center": [0, 0, 0], "axis": [0, 0, 1],
+     "major_radius": 2, "minor_radius": 0.5},
+    {"name": "pipe", "kind": "cylinder", "point": [0, 0, 0], "axis": [0, 0, 2],
+     "radius": 0.5},
+    {"name": "farfield", "kind": "circle", "center": [0.5, 0], "radius": 10},
+    {"name": "arc", "kind": "nurbs_curve", "degree": 2, "knots": [0, 0, 0, 1, 1, 1],
+     "control_points": [[1, 0], [1, 1], [0, 1]], "weights": [1, 0.7071067811865476, 1]},
+    {"name": "patch", "kind": "nurbs_surface", "degree": [1, 1],
+     "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
+     "control_points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 1]]]}
+  ]
+}"#;
+
+    fn surface_points(e: &GeometricEntity) -> Vec<[f64; 3]> {
+        let n = 40;
+        let mut out = Vec::new();
+        for i in 0..=n {
+            for j in 0..=n {
+                out.push(e.point([i as f64 / n as f64, j as f64 / n as f64]));
+            }
+        }
+        out
+    }
+
+    fn fixture(path: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../fixtures")
+            .join(path)
+    }
+
+    #[test]
+    fn every_kind_is_parsed_and_analytic_entities_lie_on_their_surfaces() {
+        let model = parse_geometry_json(EXAMPLE).unwrap();
+        let names: Vec<&str> = model.entities.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(
+            names,
+            ["sphere", "airfoil", "ring", "pipe", "farfield", "arc", "patch"]
+        );
+        assert_eq!(model.counts(), (3, 4));
+
+        let sphere = model.entity("sphere").unwrap();
+        assert!(matches!(
+            sphere.analytic,
+            Some(AnalyticShape::Sphere { .. })
+        ));
+        for p in surface_points(sphere) {
+            assert!((norm(p) - 1.0).abs() < 1e-14);
+        }
+
+        let ring = model.entity("ring").unwrap();
+        assert!(ring.analytic.is_some());
+        for p in surface_points(ring) {
+            let rho = p[0].hypot(p[1]);
+            assert!(((rho - 2.0).hypot(p[2]) - 0.5).abs() < 1e-14);
+        }
+
+        // Default axial range: from the point to point + axis.
+        let pipe = model.entity("pipe").unwrap();
+        assert!(pipe.analytic.is_some());
+        for p in surface_points(pipe) {
+            assert!((p[0].hypot(p[1]) - 0.5).abs() < 1e-14);
+            assert!((-1e-15..=2.0 + 1e-15).contains(&p[2]));
+        }
+        assert!((pipe.point([0.0, 1.0])[2] - 2.0).abs() < 1e-15);
+
+        // A 2D centre is in the plane z = 0, normal +z.
+        let far = model.entity("farfield").unwrap();
+        assert!(far.is_curve() && far.analytic.is_some());
+        for i in 0..=1000 {
+            let p = far.point([i as f64 / 1000.0, 0.0]);
+            assert!(((p[0] - 0.5).hypot(p[1]) - 10.0).abs() < 1e-14);
+            assert_eq!(p[2], 0.0);
+        }
+
+        let airfoil = model.entity("airfoil").unwrap();
+        let expected = Naca4::from_digits("0012", 1.0, true)
+            .unwrap()
+            .curve()
+            .unwrap();
+        assert_eq!(airfoil.geometry, EntityGeometry::Curve(expected));
+        assert!(airfoil.analytic.is_none());
+
+        // The quarter circle given as an explicit rational curve.
+        let arc = model.entity("arc").unwrap();
+        for i in 0..=100 {
+            assert!((norm(arc.point([i as f64 / 100.0, 0.0])) - 1.0).abs() < 1e-15);
+        }
+
+        // Bilinear patch: S(u, v) = (u, v, u v).
+        let patch = model.entity("patch").unwrap();
+        let p = patch.point([0.25, 0.5]);
+        assert_eq!(p, [0.25, 0.5, 0.125]);
+        assert_eq!(patch.origin, "JSON entity 6 (nurbs_surface)");
+    }
+
+    #[test]
+    fn circle_normal_torus_axis_and_default_names() {
+        let model = parse_geometry_json(
+            r#"{"entities": [
+                {"kind": "circle", "center": [1, 2, 3], "normal": [1, 1, 0], "radius": 2},
+                {"kind": "torus", "center": [1, 0, 0], "axis": [0, 1, 1],
+                 "major_radius": 1, "minor_radius": 0.25},
+                {"kind": "cylinder", "point": [0, 0, 1], "axis": [1, 0, 0], "radius": 3,
+                 "axial_range": [-2, 5]},
+                {"kind": "naca4", "digits": "2412"}
+            ]}"#,
+        )
+        .unwrap();
+        let names: Vec<&str> = model.entities.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(names, ["circle0", "torus1", "cylinder2", "naca43"]);
+        let (c, n) = ([1.0, 2.0, 3.0], [0.5f64.sqrt(), 0.5f64.sqrt(), 0.0]);
+        for i in 0..=200 {
+            let d = sub(model.entities[0].point([i as f64 / 200.0, 0.0]), c);
+            assert!((norm(d) - 2.0).abs() < 1e-14 && dot(d, n).abs() < 1e-14);
+        }
+        let a = scale([0.0, 1.0, 1.0], 0.5f64.sqrt());
+        for p in surface_points(&model.entities[1]) {
+            let d = sub(p, [1.0, 0.0, 0.0]);
+            let z = dot(d, a);
+            let rho = norm(sub(d, scale(a, z)));
+            assert!(((rho - 1.0).hypot(z) - 0.25).abs() < 1e-14);
+        }
+        for p in surface_points(&model.entities[2]) {
+            assert!((p[1].hypot(p[2] - 1.0) - 3.0).abs() < 1e-14);
+            assert!((-2.0 - 1e-14..=5.0 + 1e-14).contains(&p[0]));
+        }
+        // Defaults: chord 1, blunt trailing edge (a straight base closes the curve).
+        let EntityGeometry::Curve(airfoil) = &model.entities[3].geometry else {
+            panic!("naca4 is a curve")
+        };
+        assert_eq!(airfoil.c0_parameters().len(), 3);
+        assert!(airfoil.domain().1 > 1.0);
+    }
+
+    #[test]
+    fn nurbs_curve_round_trips_against_direct_construction() {
+        let model = parse_geometry_json(
+            r#"{"entities": [{"name": "c", "kind": "nurbs_curve", "degree": 3,
+                "knots": [0, 0, 0, 0, 0.1, 0.6, 0.6, 1, 1, 1, 1],
+                "control_points": [[0, 0], [1, 2, 0.5], [2, -1, 1], [3, 0.5],
+                                   [4, 2, -1], [5, 0, 0.3], [6, 1]],
+                "weights": [1, 0.5, 2, 1, 0.7, 1.5, 1]},
+              {"name": "d", "kind": "nurbs_curve", "degree": 1, "knots": [0, 0, 1, 1],
+               "control_points": [[0, 0, 0], [1, 1, 1]]}]}"#,
+        )
+        .unwrap();
+        let direct = NurbsCurve::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.1, 0.6, 0.6, 1.0, 1.0, 1.0, 1.0],
+            vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 2.0, 0.5],
+                [2.0, -1.0, 1.0],
+                [3.0, 0.5, 0.0],
+                [4.0, 2.0, -1.0],
+                [5.0, 0.0, 0.3],
+                [6.0, 1.0, 0.0],
+            ],
+            vec![1.0, 0.5, 2.0, 1.0, 0.7, 1.5, 1.0],
+        )
+        .unwrap();
+        assert_eq!(model.entities[0].geometry, EntityGeometry::Curve(direct));
+        let line = NurbsCurve::non_rational(1, vec![0.0, 0.0, 1.0, 1.0], vec![[0.0; 3], [1.0; 3]])
+            .unwrap();
+        assert_eq!(model.entities[1].geometry, EntityGeometry::Curve(line));
+    }
+
+    #[test]
+    fn syntax_errors_report_their_line() {
+        let text = "{\"entities\": [\n  {\"kind\": \"sphere\", \"center\": [0, 0, 0]\n  \"radius\": 1}\n]}";
+        let err = parse_geometry_json(text).unwrap_err();
+        assert!(
+            matches!(err, GeometryInputError::Json { line: 3, .. }),
+            "{err}"
+        );
+        assert!(err.to_string().contains("line 3"), "{err}");
+        let err = parse_geometry_json(r#"{"entity": []}"#).unwrap_err();
+        assert!(matches!(err, GeometryInputError::Json { line: 1, .. }));
+    }
+
+    #[test]
+    fn unknown_kinds_and_fields_are_errors() {
+        let err = parse_geometry_json(
+            r#"{"entities": [{"kind": "sphere", "center": [0,0,0], "radius": 1},
+                             {"kind": "cube", "size": 1}]}"#,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&err, GeometryInputError::UnknownKind { index: 1, kind } if kind == "\"cube\"")
+        );
+        let message = err.to_string();
+        assert!(message.contains("entity 1") && message.contains("nurbs_surface"));
+        assert!(matches!(
+            parse_geometry_json(r#"{"entities": [{"radius": 1}]}"#),
+            Err(GeometryInputError::MissingKind { index: 0 })
+        ));
+        assert!(matches!(
+            parse_geometry_json(r#"{"entities": [3]}"#),
+            Err(GeometryInputError::NotAnObject { index: 0 })
+        ));
+        let err = parse_geometry_json(
+            r#"{"entities": [{"name": "ball", "kind": "sphere", "center": [0,0,0], "radius": 1,
+                              "colour": "red"}]}"#,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&err, GeometryInputError::Field { index: 0, name, .. } if name == "ball"),
+            "{err}"
+        );
+        assert!(err.to_string().contains("colour"), "{err}");
+        // Wrong point dimension, missing field.
+        assert!(matches!(
+            parse_geometry_json(
+                r#"{"entities": [{"kind": "sphere", "center": [0, 0], "radius": 1}]}"#
+            ),
+            Err(GeometryInputError::Field { .. })
+        ));
+        assert!(matches!(
+            parse_geometry_json(r#"{"entities": [{"kind": "circle", "center": [0, 0]}]}"#),
+            Err(GeometryInputError::Field { .. })
+        ));
+    }
+
+    #[test]
+    fn invalid_geometry_is_reported_with_the_entity() {
+        let err = parse_geometry_json(
+            r#"{"entities": [{"kind": "sphere", "center": [0,0,0], "radius": 1},
+                             {"name": "hole", "kind": "circle", "center": [0,0], "radius": -1}]}"#,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                &err,
+                GeometryInputError::Geometry { index: 1, name, source: NurbsError::InvalidShape { .. } }
+                    if name == "hole"
+            ),
+            "{err}"
+        );
+        let err = parse_geometry_json(
+            r#"{"entities": [{"kind": "nurbs_curve", "degree": 2, "knots": [0, 0, 0, 1, 1],
+                              "control_points": [[0, 0], [1, 1], [2, 0]]}]}"#,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(
+                err,
+                GeometryInputError::Geometry {
+                    index: 0,
+                    source: NurbsError::KnotCount {
+                        expected: 6,
+                        found: 5,
+                        ..
+                    },
+                    ..
+                }
+            ),
+            "{err}"
+        );
+        let err = parse_geometry_json(
+            r#"{"entities": [{"kind": "nurbs_surface", "degree": [1, 1],
+                "knots": [[0, 0, 1, 1], [0, 0, 0.5, 1, 1]],
+                "control_points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 1]]]}]}"#,
+        )
+        .unwrap_err();
+        assert!(matches!(
+            err,
+            GeometryInputError::Geometry {
+                source: NurbsError::KnotCount {
+                    expected: 4,
+                    found: 5,
+                    ..
+                },
+                ..
+            }
+        ));
+        let err = parse_geometry_json(
+            r#"{"entities": [{"kind": "nurbs_surface", "degree": [1, 1],
+                "knots": [[0, 0, 1, 1], [0, 0, 1, 1]],
+                "control_points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0]]]}]}"#,
+        )
+        .unwrap_err();
+        assert!(matches!(err, GeometryInputError::Invalid { index: 0, .. }));
+        assert!(matches!(
+            parse_geometry_json(r#"{"entities": [{"kind": "naca4", "digits": "12", "chord": 1}]}"#),
+            Err(GeometryInputError::Geometry { .. })
+        ));
+        assert!(matches!(
+            parse_geometry_json(
+                r#"{"entities": [{"kind": "torus", "center": [0,0,0], "axis": [0,0,1],
+                                  "major_radius": 1, "minor_radius": 2}]}"#
+            ),
+            Err(GeometryInputError::Geometry { .. })
+        ));
+    }
+
+    #[test]
+    fn names_must_be_unique_and_non_empty() {
+        let err = parse_geometry_json(
+            r#"{"entities": [{"name": "wall", "kind": "sphere", "center": [0,0,0], "radius": 1},
+                             {"kind": "sphere", "center": [0,0,0], "radius": 2},
+                             {"name": "wall", "kind": "circle", "center": [0,0], "radius": 1}]}"#,
+        )
+        .unwrap_err();
+        assert!(
+            matches!(&err, GeometryInputError::DuplicateName { index: 2, first: 0, name } if name == "wall"),
+            "{err}"
+        );
+        // A default name can collide with an explicit one too.
+        assert!(matches!(
+            parse_geometry_json(
+                r#"{"entities": [{"name": "sphere1", "kind": "sphere", "center": [0,0,0], "radius": 1},
+                                 {"kind": "sphere", "center": [0,0,0], "radius": 2}]}"#
+            ),
+            Err(GeometryInputError::DuplicateName { index: 1, .. })
+        ));
+        assert!(matches!(
+            parse_geometry_json(
+                r#"{"entities": [{"name": "", "kind": "sphere", "center": [0,0,0], "radius": 1}]}"#
+            ),
+            Err(GeometryInputError::Invalid { .. })
+        ));
+    }
+
+    #[test]
+    fn bundled_fixtures_parse() {
+        let sphere = read_geometry_json(&fixture("sphere/sphere.json")).unwrap();
+        assert_eq!(sphere.entities.len(), 1);
+        let ball = sphere.entity("sphere").unwrap();
+        assert_eq!(
+            ball.analytic,
+            Some(AnalyticShape::Sphere {
+                center: [0.0; 3],
+                radius: 1.0
+            })
+        );
+        assert!(ball.origin.ends_with("sphere.json: JSON entity 0 (sphere)"));
+
+        let naca = read_geometry_json(&fixture("naca0012/naca0012.json")).unwrap();
+        let names: Vec<&str> = naca.entities.iter().map(|e| e.name.as_str()).collect();
+        assert_eq!(names, ["airfoil", "farfield"]);
+        let airfoil = naca.entity("airfoil").unwrap();
+        // Leading and trailing edge of the chord-1 airfoil at the origin.
+        assert!(airfoil.distance([0.0; 3]) < 1e-15);
+        assert!(airfoil.distance([1.0, 0.0, 0.0]) < 1e-15);
+        let far = naca.entity("farfield").unwrap();
+        assert_eq!(
+            far.analytic,
+            Some(AnalyticShape::Circle {
+                center: [0.5, 0.0, 0.0],
+                normal: [0.0, 0.0, 1.0],
+                radius: 10.0
+            })
+        );
+        assert!(matches!(
+            read_geometry_json(&fixture("missing.json")),
+            Err(GeometryInputError::Io { .. })
+        ));
+    }
+}
