@@ -8,8 +8,13 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use clap::{Parser, Subcommand};
+use hocurve_geodesic::{
+    associate_boundary, place_boundary_nodes, AssociationRule, BoundaryNodeStrategy,
+};
 use hocurve_mesh::HighOrderMesh;
+use hocurve_mesh::LinearMesh;
 use hocurve_nodes::NodeFamily;
+use hocurve_nurbs::GeometryModel;
 
 /// Curved high-order meshes of arbitrary order from straight-sided meshes.
 #[derive(Parser)]
@@ -23,8 +28,9 @@ struct Cli {
 enum Command {
     /// Turn a linear mesh into an order-P mesh and write it (.vtu for ParaView, .msh for Gmsh).
     ///
-    /// For now only `--straight` is available: the order-P nodes are placed on the straight
-    /// elements. Curving onto a geometry comes with `--geometry` in a later release.
+    /// With `--geometry`, boundary facets are associated with the geometry's curves/surfaces
+    /// (by physical-group name for JSON, by proximity for IGES) and their high-order nodes
+    /// are placed on it (arc length, geodesics). `--straight` keeps every element straight.
     Curve {
         /// Linear input mesh (Gmsh MSH 4.1 or 2.2, ASCII or binary).
         mesh: PathBuf,
@@ -37,8 +43,20 @@ enum Command {
         #[arg(long, default_value = "fekete")]
         nodes: NodeFamily,
         /// Keep the elements straight-sided (no geometry, no curving).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "geometry")]
         straight: bool,
+        /// Geometry to curve onto: JSON (analytic shapes, NACA airfoils, NURBS; see README)
+        /// or IGES (.igs/.iges).
+        #[arg(short, long)]
+        geometry: Option<PathBuf>,
+        /// Largest distance (in mesh units) of a boundary vertex from its geometry entity;
+        /// default 1e-4 × the mesh's bounding-box diagonal. Facets farther away stay straight.
+        #[arg(long)]
+        geometry_tolerance: Option<f64>,
+        /// Where boundary nodes go: geodesic (the paper's arc-length/geodesic placement) or
+        /// projection (closest point of the straight node; the baseline).
+        #[arg(long, default_value = "geodesic")]
+        boundary_nodes: BoundaryNodeStrategy,
         /// Output file: `.vtu` (VTK Lagrange cells) or `.msh` (Gmsh MSH 4.1, high order).
         #[arg(short, long)]
         output: PathBuf,
@@ -68,15 +86,27 @@ fn run(cli: Cli) -> Result<()> {
             order,
             nodes,
             straight,
+            geometry,
+            geometry_tolerance,
+            boundary_nodes,
             output,
         } => {
-            if !straight {
-                bail!("curving onto a geometry is not available yet; pass --straight to write the straight-sided order-{order} mesh");
+            if !straight && geometry.is_none() {
+                bail!("give a geometry to curve onto with --geometry FILE (.json or .igs), or pass --straight for the straight-sided order-{order} mesh");
             }
             let start = Instant::now();
             let linear = hocurve_io::read_msh(&mesh)?;
-            let high_order = HighOrderMesh::from_linear(&linear, order as usize, nodes)
+            let mut high_order = HighOrderMesh::from_linear(&linear, order as usize, nodes)
                 .with_context(|| format!("{}", mesh.display()))?;
+            if let Some(geometry) = geometry {
+                curve_boundary(
+                    &linear,
+                    &mut high_order,
+                    &geometry,
+                    geometry_tolerance,
+                    boundary_nodes,
+                )?;
+            }
             hocurve_io::write_mesh(&output, &high_order)?;
             println!(
                 "{}: {}D, {} cells, order {} ({} nodes): {} nodes, {} boundary facets -> {} ({:.2} s)",
@@ -124,4 +154,79 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// Reads a geometry file by its extension: `.json` or `.igs`/`.iges`.
+fn read_geometry(path: &std::path::Path) -> Result<(GeometryModel, AssociationRule)> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "json" => Ok((
+            hocurve_nurbs::read_geometry_json(path)?,
+            AssociationRule::NameOnly,
+        )),
+        "igs" | "iges" => Ok((
+            hocurve_nurbs::iges::read_iges_geometry(path)?,
+            AssociationRule::NameThenNearest,
+        )),
+        _ => bail!(
+            "{}: unknown geometry format (expected .json, .igs or .iges)",
+            path.display()
+        ),
+    }
+}
+
+/// Associates the boundary with the geometry and moves the boundary nodes onto it.
+/// (The elastic solve that carries the boundary motion into the domain comes next.)
+fn curve_boundary(
+    linear: &LinearMesh,
+    mesh: &mut HighOrderMesh,
+    geometry_path: &std::path::Path,
+    tolerance: Option<f64>,
+    strategy: BoundaryNodeStrategy,
+) -> Result<()> {
+    let (geometry, rule) = read_geometry(geometry_path)?;
+    let (curves, surfaces) = geometry.counts();
+    println!(
+        "{}: {curves} curves, {surfaces} surfaces",
+        geometry_path.display()
+    );
+    let association = associate_boundary(linear, &geometry, rule, tolerance)
+        .with_context(|| format!("{}", geometry_path.display()))?;
+    println!(
+        "boundary: {} facets on the geometry ({} by name, {} by proximity), {} left straight (tolerance {:.3e}); vertices moved up to {:.3e}",
+        association.by_name + association.by_proximity,
+        association.by_name,
+        association.by_proximity,
+        association.unassociated,
+        association.tolerance,
+        association.max_vertex_move
+    );
+    if association.by_name + association.by_proximity == 0 {
+        bail!(
+            "no boundary facet lies on the geometry: name physical groups like the JSON entities, or check units and --geometry-tolerance"
+        );
+    }
+    let targets = place_boundary_nodes(mesh, &geometry, &association, strategy)?;
+    let size = geometry.size().max(f64::MIN_POSITIVE);
+    println!(
+        "boundary nodes: {} on {} curved facets, max distance from the geometry {:.3e} ({:.1e} of the model size)",
+        targets.targets.len(),
+        targets.curved_facets,
+        targets.max_geometry_distance,
+        targets.max_geometry_distance / size
+    );
+    if targets.max_geometry_distance > 1e-10 * size {
+        eprintln!(
+            "hocurve: warning: boundary nodes lie up to {:.3e} from the geometry (more than 1e-10 of the model size)",
+            targets.max_geometry_distance
+        );
+    }
+    for (&n, &x) in &targets.targets {
+        mesh.nodes[n as usize] = x;
+    }
+    Ok(())
 }
