@@ -1,0 +1,506 @@
+//! Bernstein (Bézier) polynomial spaces on the reference shapes, and the conversion of
+//! sampled values to Bernstein coefficients.
+//!
+//! On a simplex the Bernstein polynomials of degree n are B_α(λ) = n!/(α₀!⋯α_d!) Π λᵢ^αᵢ,
+//! |α| = n, with λ the barycentric coordinates; on the box they are tensor products of the 1D
+//! B_i^n(t) = C(n, i) tⁱ (1 − t)ⁿ⁻ⁱ; on the prism, triangle × line. They are non-negative and
+//! sum to 1, so a polynomial lies between its smallest and largest coefficient (the convex
+//! hull property), and the coefficient of a vertex is the polynomial's value there.
+//!
+//! The coefficients of a polynomial f of the space are found from its values at lattice
+//! points ξ_α (unisolvent for the space): c = M⁻¹ f with M_{αβ} = B_β(ξ_α). On simplices the
+//! points are the equispaced α / n; in each 1D direction (quadrilateral, hexahedron, the
+//! prism's ζ) the Chebyshev–Lobatto points ½ − ½ cos(π i / n), which keep ‖M⁻¹‖∞ — the
+//! factor by which rounding in the values can grow in the coefficients — 3 to 6 times smaller
+//! per direction than equispaced points at the degrees of p = 2..4 hexahedra (e.g. 184
+//! instead of 560 at degree 8). Both include the vertices. M⁻¹ is precomputed; on the box and
+//! the prism it is a Kronecker product of 1D (and triangle) inverses and is applied one
+//! direction at a time.
+
+use hocurve_nodes::Shape;
+use nalgebra::DMatrix;
+
+use crate::QualityError;
+
+/// Largest degree per variable (1D factor) accepted.
+pub const MAX_LINE_DEGREE: usize = 40;
+/// Largest number of coefficients of a dense (triangle or tetrahedron) factor: 2024 is the
+/// degree-21 tetrahedron, i.e. det J of p = 8 tetrahedra (a 33 MB inverse).
+pub const MAX_DENSE_COEFFICIENTS: usize = 2024;
+
+/// A Bernstein polynomial space on a reference shape, with its lattice points and the
+/// precomputed values-to-coefficients conversion.
+#[derive(Debug, Clone)]
+pub struct BernsteinSpace {
+    lattice: Lattice,
+    /// Conversion factors: (storage axis, row-major m×m inverse of the factor's M).
+    factors: Vec<(usize, Vec<f64>)>,
+    /// ‖M⁻¹‖∞ of the whole conversion (product of the factors' norms).
+    inverse_norm: f64,
+}
+
+/// Multi-indices, lattice points and basis weights of a space, without the conversion.
+#[derive(Debug, Clone)]
+struct Lattice {
+    shape: Shape,
+    degree: usize,
+    degree_z: usize,
+    /// Exponents of the "barycentric" coordinates (see [`Lattice::coordinates`]).
+    exponents: Vec<[u8; 6]>,
+    /// Multinomial (or binomial product) weight of each basis function.
+    weights: Vec<f64>,
+    points: Vec<[f64; 3]>,
+    /// Storage shape: index = i₀ + dims₀ (i₁ + dims₁ i₂).
+    dims: [usize; 3],
+}
+
+impl BernsteinSpace {
+    /// The space of the Jacobian determinant of order-`order` isoparametric elements of
+    /// `shape` (see [`jacobian_degree`]).
+    pub fn for_jacobian(shape: Shape, order: usize) -> Result<Self, QualityError> {
+        let (degree, degree_z) = jacobian_degree(shape, order);
+        Self::new(shape, degree, degree_z).map_err(|_| QualityError::UnsupportedBezierDegree {
+            shape,
+            order,
+            degree: degree.max(degree_z),
+            max: match shape {
+                Shape::Tri | Shape::Tet => max_dense_degree(shape),
+                _ => MAX_LINE_DEGREE,
+            },
+        })
+    }
+
+    /// The space of `shape` of degree `degree`: total degree on simplices, degree per
+    /// variable on the line, quadrilateral and hexahedron; on the prism total degree
+    /// `degree` in (ξ, η) times degree `degree_z` in ζ (`degree_z` is ignored elsewhere).
+    pub fn new(shape: Shape, degree: usize, degree_z: usize) -> Result<Self, QualityError> {
+        let lattice = Lattice::new(shape, degree, degree_z);
+        let too_big = || QualityError::UnsupportedBezierDegree {
+            shape,
+            order: 0,
+            degree,
+            max: MAX_LINE_DEGREE,
+        };
+        let line = |n: usize| -> Result<Vec<f64>, QualityError> {
+            if n > MAX_LINE_DEGREE {
+                return Err(too_big());
+            }
+            dense_inverse(&Lattice::new(Shape::Line, n, 0)).ok_or_else(too_big)
+        };
+        let dense = |space: &Lattice| -> Result<Vec<f64>, QualityError> {
+            if space.len() > MAX_DENSE_COEFFICIENTS {
+                return Err(too_big());
+            }
+            dense_inverse(space).ok_or_else(too_big)
+        };
+        let factors = match shape {
+            Shape::Line | Shape::Tri | Shape::Tet => vec![(0, dense(&lattice)?)],
+            Shape::Quad => {
+                let a = line(degree)?;
+                vec![(0, a.clone()), (1, a)]
+            }
+            Shape::Hex => {
+                let a = line(degree)?;
+                vec![(0, a.clone()), (1, a.clone()), (2, a)]
+            }
+            Shape::Prism => vec![
+                (0, dense(&Lattice::new(Shape::Tri, degree, 0))?),
+                (1, line(degree_z)?),
+            ],
+        };
+        let inverse_norm = factors
+            .iter()
+            .map(|(axis, m)| infinity_norm(m, lattice.dims[*axis]))
+            .product();
+        Ok(BernsteinSpace {
+            lattice,
+            factors,
+            inverse_norm,
+        })
+    }
+
+    /// The shape.
+    pub fn shape(&self) -> Shape {
+        self.lattice.shape
+    }
+
+    /// Degree (total on simplices and the prism's triangle, per variable on boxes).
+    pub fn degree(&self) -> usize {
+        self.lattice.degree
+    }
+
+    /// Degree in ζ of a prism space (equal to [`BernsteinSpace::degree`] for other shapes).
+    pub fn degree_z(&self) -> usize {
+        if self.lattice.shape == Shape::Prism {
+            self.lattice.degree_z
+        } else {
+            self.lattice.degree
+        }
+    }
+
+    /// Number of basis functions (= coefficients = lattice points).
+    pub fn len(&self) -> usize {
+        self.lattice.len()
+    }
+
+    /// Never true.
+    pub fn is_empty(&self) -> bool {
+        self.lattice.len() == 0
+    }
+
+    /// The lattice points ξ_α where values are sampled, in coefficient order.
+    pub fn points(&self) -> &[[f64; 3]] {
+        &self.lattice.points
+    }
+
+    /// ‖M⁻¹‖∞: how much the conversion can amplify errors in the sampled values.
+    pub fn conversion_norm(&self) -> f64 {
+        self.inverse_norm
+    }
+
+    /// Replaces the values f(ξ_α) at the lattice points in `values` by the Bernstein
+    /// coefficients of the interpolating polynomial (`tmp` is scratch memory).
+    pub fn values_to_coefficients(&self, values: &mut [f64], tmp: &mut Vec<f64>) {
+        let dims = self.lattice.dims;
+        for (axis, matrix) in &self.factors {
+            let m = dims[*axis];
+            let stride: usize = dims[..*axis].iter().product();
+            let outer = values.len() / (m * stride);
+            tmp.clear();
+            tmp.resize(2 * m, 0.0);
+            let (fiber, image) = tmp.split_at_mut(m);
+            for o in 0..outer {
+                for s in 0..stride {
+                    let base = o * m * stride + s;
+                    for r in 0..m {
+                        fiber[r] = values[base + r * stride];
+                    }
+                    for (r, out) in image.iter_mut().enumerate() {
+                        let row = &matrix[r * m..(r + 1) * m];
+                        *out = row.iter().zip(fiber.iter()).map(|(a, b)| a * b).sum();
+                    }
+                    for r in 0..m {
+                        values[base + r * stride] = image[r];
+                    }
+                }
+            }
+        }
+    }
+
+    /// Σ_α c_α B_α(ξ): the polynomial with Bernstein coefficients `coefficients` at ξ.
+    pub fn eval(&self, coefficients: &[f64], xi: [f64; 3]) -> f64 {
+        let mut basis = vec![0.0; self.len()];
+        self.lattice.basis_values(xi, &mut basis);
+        basis.iter().zip(coefficients).map(|(b, c)| b * c).sum()
+    }
+}
+
+/// Degree of det J for order-p isoparametric elements, as (degree, degree_z):
+/// - triangle (2D): each column ∂x/∂ξₖ has total degree p − 1, so det J has 2(p − 1);
+/// - tetrahedron: 3(p − 1);
+/// - quadrilateral (Q_p: degree ≤ p in each variable): ∂x/∂ξ has degree p − 1 in ξ and p in
+///   η, ∂x/∂η the reverse, so each term of x_ξ y_η − x_η y_ξ has degree 2p − 1 per variable;
+/// - hexahedron: each of the three factors of a term of det J has degree p − 1 in one
+///   variable and p in the others, so 3p − 1 per variable;
+/// - prism (P_p(ξ, η) ⊗ P_p(ζ)): ∂/∂ξ and ∂/∂η lower the triangle degree to p − 1, ∂/∂ζ the ζ
+///   degree to p − 1, so a term has triangle degree 2(p − 1) + p = 3p − 2 and ζ degree
+///   2p + (p − 1) = 3p − 1.
+///
+/// `degree_z` equals `degree` except for the prism.
+pub fn jacobian_degree(shape: Shape, order: usize) -> (usize, usize) {
+    let p = order;
+    let d = match shape {
+        Shape::Line => p.saturating_sub(1),
+        Shape::Tri => 2 * p.saturating_sub(1),
+        Shape::Tet => 3 * p.saturating_sub(1),
+        Shape::Quad => (2 * p).saturating_sub(1),
+        Shape::Hex => (3 * p).saturating_sub(1),
+        Shape::Prism => return ((3 * p).saturating_sub(2), (3 * p).saturating_sub(1)),
+    };
+    (d, d)
+}
+
+/// Largest total degree whose dense factor fits [`MAX_DENSE_COEFFICIENTS`].
+fn max_dense_degree(shape: Shape) -> usize {
+    (0..)
+        .take_while(|&n| Lattice::new(shape, n, 0).len() <= MAX_DENSE_COEFFICIENTS)
+        .last()
+        .unwrap_or(0)
+}
+
+impl Lattice {
+    fn new(shape: Shape, degree: usize, degree_z: usize) -> Lattice {
+        let n = degree;
+        let nz = if shape == Shape::Prism { degree_z } else { n };
+        let mut lattice = Lattice {
+            shape,
+            degree: n,
+            degree_z: nz,
+            exponents: Vec::new(),
+            weights: Vec::new(),
+            points: Vec::new(),
+            dims: [1; 3],
+        };
+        // Simplex lattice coordinate i/n, and the 1D Chebyshev–Lobatto point (any point when
+        // n = 0: the space is the constants). The cosine is symmetrised so that the points
+        // are exactly mirror images and the middle one (even n) is exactly ½.
+        let t = |i: usize, n: usize| if n == 0 { 0.0 } else { i as f64 / n as f64 };
+        let c = |i: usize, n: usize| {
+            if n == 0 {
+                0.0
+            } else if 2 * i <= n {
+                0.5 - 0.5 * (std::f64::consts::PI * i as f64 / n as f64).cos()
+            } else {
+                0.5 + 0.5 * (std::f64::consts::PI * (n - i) as f64 / n as f64).cos()
+            }
+        };
+        match shape {
+            Shape::Line => {
+                for i in 0..=n {
+                    lattice.push([n - i, i, 0, 0, 0, 0], [c(i, n), 0.0, 0.0]);
+                }
+                lattice.dims = [n + 1, 1, 1];
+            }
+            Shape::Tri => {
+                for j in 0..=n {
+                    for i in 0..=n - j {
+                        lattice.push([n - i - j, i, j, 0, 0, 0], [t(i, n), t(j, n), 0.0]);
+                    }
+                }
+                lattice.dims = [lattice.len(), 1, 1];
+            }
+            Shape::Tet => {
+                for k in 0..=n {
+                    for j in 0..=n - k {
+                        for i in 0..=n - j - k {
+                            lattice
+                                .push([n - i - j - k, i, j, k, 0, 0], [t(i, n), t(j, n), t(k, n)]);
+                        }
+                    }
+                }
+                lattice.dims = [lattice.len(), 1, 1];
+            }
+            Shape::Quad => {
+                for j in 0..=n {
+                    for i in 0..=n {
+                        lattice.push([n - i, i, n - j, j, 0, 0], [c(i, n), c(j, n), 0.0]);
+                    }
+                }
+                lattice.dims = [n + 1, n + 1, 1];
+            }
+            Shape::Hex => {
+                for k in 0..=n {
+                    for j in 0..=n {
+                        for i in 0..=n {
+                            lattice
+                                .push([n - i, i, n - j, j, n - k, k], [c(i, n), c(j, n), c(k, n)]);
+                        }
+                    }
+                }
+                lattice.dims = [n + 1, n + 1, n + 1];
+            }
+            Shape::Prism => {
+                for k in 0..=nz {
+                    for j in 0..=n {
+                        for i in 0..=n - j {
+                            lattice.push(
+                                [n - i - j, i, j, nz - k, k, 0],
+                                [t(i, n), t(j, n), c(k, nz)],
+                            );
+                        }
+                    }
+                }
+                let triangle = (n + 1) * (n + 2) / 2;
+                lattice.dims = [triangle, nz + 1, 1];
+            }
+        }
+        lattice
+    }
+
+    fn push(&mut self, exponents: [usize; 6], point: [f64; 3]) {
+        // Groups of coordinates summing to 1: simplex = one group, box = one per axis.
+        let groups: &[(usize, usize)] = match self.shape {
+            Shape::Line => &[(0, 2)],
+            Shape::Tri => &[(0, 3)],
+            Shape::Tet => &[(0, 4)],
+            Shape::Quad => &[(0, 2), (2, 4)],
+            Shape::Hex => &[(0, 2), (2, 4), (4, 6)],
+            Shape::Prism => &[(0, 3), (3, 5)],
+        };
+        let weight = groups
+            .iter()
+            .map(|&(a, b)| multinomial(&exponents[a..b]))
+            .product();
+        // Degrees are at most MAX_LINE_DEGREE (< 256): the cast is exact.
+        self.exponents.push(exponents.map(|e| e as u8));
+        self.weights.push(weight);
+        self.points.push(point);
+    }
+
+    fn len(&self) -> usize {
+        self.points.len()
+    }
+
+    /// The "barycentric" coordinates whose powers make the basis: (1−ξ−η, ξ, η) for the
+    /// triangle, (1−ξ, ξ, 1−η, η, 1−ζ, ζ) for the hexahedron, and so on.
+    fn coordinates(&self, xi: [f64; 3]) -> [f64; 6] {
+        let [x, y, z] = xi;
+        match self.shape {
+            Shape::Line => [1.0 - x, x, 0.0, 0.0, 0.0, 0.0],
+            Shape::Tri => [1.0 - x - y, x, y, 0.0, 0.0, 0.0],
+            Shape::Tet => [1.0 - x - y - z, x, y, z, 0.0, 0.0],
+            Shape::Quad => [1.0 - x, x, 1.0 - y, y, 0.0, 0.0],
+            Shape::Hex => [1.0 - x, x, 1.0 - y, y, 1.0 - z, z],
+            Shape::Prism => [1.0 - x - y, x, y, 1.0 - z, z, 0.0],
+        }
+    }
+
+    /// B_α(ξ) for every α, into `out`.
+    fn basis_values(&self, xi: [f64; 3], out: &mut [f64]) {
+        let c = self.coordinates(xi);
+        let top = self.degree.max(self.degree_z);
+        // powers[a][e] = c_a^e
+        let mut powers = vec![[1.0; 6]; top + 1];
+        for e in 1..=top {
+            for a in 0..6 {
+                powers[e][a] = powers[e - 1][a] * c[a];
+            }
+        }
+        for ((o, ex), w) in out.iter_mut().zip(&self.exponents).zip(&self.weights) {
+            let mut v = *w;
+            for a in 0..6 {
+                v *= powers[ex[a] as usize][a];
+            }
+            *o = v;
+        }
+    }
+}
+
+/// (Σ kᵢ)! / Π kᵢ!, computed as a product of binomials to stay exact in f64 as long as
+/// possible.
+fn multinomial(k: &[usize]) -> f64 {
+    let mut total = 0;
+    let mut value = 1.0;
+    for &ki in k {
+        for j in 1..=ki {
+            total += 1;
+            value = value * total as f64 / j as f64;
+        }
+    }
+    value
+}
+
+/// Row-major inverse of M_{αβ} = B_β(ξ_α) on the lattice, or None if singular.
+fn dense_inverse(lattice: &Lattice) -> Option<Vec<f64>> {
+    let n = lattice.len();
+    let mut m = DMatrix::zeros(n, n);
+    let mut row = vec![0.0; n];
+    for (a, &x) in lattice.points.iter().enumerate() {
+        lattice.basis_values(x, &mut row);
+        for b in 0..n {
+            m[(a, b)] = row[b];
+        }
+    }
+    let inverse = m.lu().try_inverse()?;
+    // nalgebra is column-major: the transpose's storage is the row-major inverse.
+    Some(inverse.transpose().as_slice().to_vec())
+}
+
+/// Maximum absolute row sum of a row-major m×m matrix.
+fn infinity_norm(matrix: &[f64], m: usize) -> f64 {
+    matrix
+        .chunks(m)
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A polynomial of the space, written with monomials, evaluated exactly enough.
+    fn monomial_test(shape: Shape, degree: usize, degree_z: usize, xi: [f64; 3]) -> f64 {
+        let [x, y, z] = xi;
+        match shape {
+            Shape::Line => (0..=degree)
+                .map(|e| x.powi(e as i32) * (e as f64 + 1.0))
+                .sum(),
+            Shape::Tri => (1.0 + x - 2.0 * y).powi(degree as i32) + 0.5,
+            Shape::Tet => (1.0 + x - 2.0 * y + 0.5 * z).powi(degree as i32) - 0.3,
+            Shape::Quad => (1.0 + 2.0 * x).powi(degree as i32) * (1.0 - y).powi(degree as i32),
+            Shape::Hex => {
+                (1.0 + 2.0 * x).powi(degree as i32)
+                    * (3.0 - y).powi(degree as i32)
+                    * (z - 2.0).powi(degree as i32)
+            }
+            Shape::Prism => {
+                (1.0 + x + 3.0 * y).powi(degree as i32) * (2.0 - z).powi(degree_z as i32)
+            }
+        }
+    }
+
+    #[test]
+    fn coefficients_reproduce_polynomials_of_the_space_everywhere() {
+        for shape in Shape::ALL {
+            for degree in 0..=6 {
+                let degree_z = degree + 1;
+                let space = BernsteinSpace::new(shape, degree, degree_z).unwrap();
+                let mut c: Vec<f64> = space
+                    .points()
+                    .iter()
+                    .map(|&x| monomial_test(shape, degree, degree_z, x))
+                    .collect();
+                let mut tmp = Vec::new();
+                space.values_to_coefficients(&mut c, &mut tmp);
+                for k in 0..20 {
+                    let s = k as f64 / 20.0;
+                    let xi = match shape.dim() {
+                        1 => [s, 0.0, 0.0],
+                        2 => [0.7 * s, 0.3 * (1.0 - s), 0.0],
+                        _ => [0.5 * s, 0.3 * (1.0 - s), 0.15 + 0.1 * s],
+                    };
+                    let want = monomial_test(shape, degree, degree_z, xi);
+                    let got = space.eval(&c, xi);
+                    assert!(
+                        (want - got).abs() < 1e-9 * want.abs().max(1.0),
+                        "{shape:?} n={degree}: {got} vs {want}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn basis_is_a_partition_of_unity_and_vertex_coefficients_are_values() {
+        let space = BernsteinSpace::new(Shape::Tet, 4, 0).unwrap();
+        let mut b = vec![0.0; space.len()];
+        space.lattice.basis_values([0.1, 0.2, 0.3], &mut b);
+        assert!((b.iter().sum::<f64>() - 1.0).abs() < 1e-14);
+        assert!(b.iter().all(|&v| v >= 0.0));
+        // f = ξ + 2η: coefficient at vertex (0,1,0) is f there = 2, at the origin 0.
+        let mut c: Vec<f64> = space.points().iter().map(|x| x[0] + 2.0 * x[1]).collect();
+        space.values_to_coefficients(&mut c, &mut Vec::new());
+        let at = |p: [f64; 3]| space.points().iter().position(|&x| x == p).unwrap();
+        assert!((c[at([0.0, 1.0, 0.0])] - 2.0).abs() < 1e-12);
+        assert!(c[at([0.0, 0.0, 0.0])].abs() < 1e-12);
+        // Degree elevation of a linear function: coefficients are its values at ξ_α (exact
+        // for linear functions), so the minimum coefficient is 0 and the maximum 2.
+        let min = c.iter().cloned().fold(f64::INFINITY, f64::min);
+        assert!(min.abs() < 1e-12);
+    }
+
+    #[test]
+    fn jacobian_degrees_follow_the_derivation() {
+        assert_eq!(jacobian_degree(Shape::Tri, 3), (4, 4));
+        assert_eq!(jacobian_degree(Shape::Tet, 3), (6, 6));
+        assert_eq!(jacobian_degree(Shape::Quad, 1), (1, 1));
+        assert_eq!(jacobian_degree(Shape::Hex, 1), (2, 2));
+        assert_eq!(jacobian_degree(Shape::Prism, 1), (1, 2));
+        assert_eq!(jacobian_degree(Shape::Prism, 2), (4, 5));
+        assert_eq!(multinomial(&[2, 1, 1]), 12.0);
+        assert!(matches!(
+            BernsteinSpace::for_jacobian(Shape::Tet, 10),
+            Err(QualityError::UnsupportedBezierDegree { degree: 27, .. })
+        ));
+    }
+}

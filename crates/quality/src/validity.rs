@@ -1,0 +1,669 @@
+//! Guaranteed validity from Bézier bounds on det J (beyond the paper, which samples det J
+//! and notes that an inversion between sample points goes unnoticed).
+//!
+//! det J of an order-p element is a polynomial on the reference element, of the degree
+//! given by [`crate::jacobian_degree`]. Written in the Bernstein basis of that degree, it lies
+//! between its smallest and largest coefficient, and its vertex coefficients are its values
+//! there. So, per element:
+//! 1. sample det J at the Bernstein lattice points and convert to coefficients
+//!    ([`crate::BernsteinSpace`], precomputed inverse);
+//! 2. if every coefficient is > 0, det J > 0 everywhere: **valid**;
+//! 3. if a sampled value is < 0 (in particular a vertex coefficient), the element is
+//!    certainly **invalid**;
+//! 4. otherwise split the region into 2^d sub-elements (midpoint refinement: 4 triangles,
+//!    8 tetrahedra, 4 / 8 boxes, 8 prisms), re-sample det J on each sub-element's own lattice
+//!    (the polynomial on an affine sub-element has the same degree) and repeat, up to
+//!    `max_depth` levels; what remains is **undecided**.
+//!
+//! The coefficients of the final regions also bound the extremes: min det J ≥ min of the
+//! leaves' smallest coefficients and max det J ≤ max of their largest ones, which gives a
+//! certified interval for the true scaled Jacobian min det J / max det J.
+//!
+//! Rounding: values within (32 + n_nodes) ε · max|det J| of zero are not trusted as
+//! negative, and coefficients must exceed that margin times ‖M⁻¹‖∞ (the amplification of
+//! the conversion, [`crate::BernsteinSpace::conversion_norm`]) to count as positive; the
+//! reported bounds are widened by it. Near-zero cases are thus undecided rather than wrong.
+//! The margin relative to max det J is about 3·10⁻¹² for p = 3 tetrahedra, 1·10⁻⁷ for p = 3
+//! hexahedra and 1·10⁻⁴ for p = 4 hexahedra (the tensor conversion's norm is the product
+//! of the three 1D norms), so at high order on hexahedra and prisms elements with
+//! Ĩ below that margin come out undecided.
+
+use std::collections::BTreeMap;
+
+use hocurve_mesh::HighOrderMesh;
+use hocurve_nodes::{LagrangeBasis, NodeFamily, ReferenceNodes, Shape};
+use rayon::prelude::*;
+use serde::Serialize;
+
+use crate::jacobian::{check_cells, gather, min_max, JacobianSampler, JacobianWorkspace};
+use crate::{BernsteinSpace, QualityError};
+
+/// The verdict of the Bézier check on one element.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Validity {
+    /// det J > 0 everywhere on the element (certified).
+    Valid,
+    /// det J < 0 somewhere (a point was found).
+    Invalid,
+    /// Neither could be shown within the subdivision depth (det J is close to 0 somewhere).
+    Undecided,
+}
+
+/// Options of the Bézier validity check.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BezierOptions {
+    /// Levels of subdivision before giving up (0: only the whole element).
+    pub max_depth: usize,
+}
+
+impl Default for BezierOptions {
+    fn default() -> Self {
+        BezierOptions { max_depth: 4 }
+    }
+}
+
+/// The result of the Bézier check on one element.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ValidityCheck {
+    /// The verdict.
+    pub validity: Validity,
+    /// Certified lower bound of min det J over the element (smallest leaf coefficient).
+    pub min_jacobian_lower_bound: f64,
+    /// Certified upper bound of max det J (largest leaf coefficient).
+    pub max_jacobian_upper_bound: f64,
+    /// Lower bound of the true scaled Jacobian min det J / max det J.
+    pub scaled_jacobian_lower_bound: f64,
+    /// Upper bound of the true scaled Jacobian (from the sampled extremes).
+    pub scaled_jacobian_upper_bound: f64,
+    /// Number of (sub-)elements examined.
+    pub regions: usize,
+}
+
+/// An affine map ξ = origin + matrix · η from a sub-element's reference coordinates η to
+/// the element's ξ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Affine {
+    origin: [f64; 3],
+    matrix: [[f64; 3]; 3],
+}
+
+impl Affine {
+    const IDENTITY: Affine = Affine {
+        origin: [0.0; 3],
+        matrix: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+    };
+
+    fn apply(&self, eta: [f64; 3]) -> [f64; 3] {
+        let mut x = self.origin;
+        for r in 0..3 {
+            for c in 0..3 {
+                x[r] += self.matrix[r][c] * eta[c];
+            }
+        }
+        x
+    }
+
+    /// self ∘ inner.
+    fn compose(&self, inner: &Affine) -> Affine {
+        let mut matrix = [[0.0; 3]; 3];
+        for r in 0..3 {
+            for c in 0..3 {
+                matrix[r][c] = (0..3).map(|k| self.matrix[r][k] * inner.matrix[k][c]).sum();
+            }
+        }
+        Affine {
+            origin: self.apply(inner.origin),
+            matrix,
+        }
+    }
+
+    /// The affine map sending the reference simplex's vertices to `w` (2 or 3 vertices
+    /// beyond the first).
+    fn simplex(w: &[[f64; 3]]) -> Affine {
+        let mut a = Affine {
+            origin: w[0],
+            matrix: [[0.0; 3]; 3],
+        };
+        for k in 1..w.len() {
+            for r in 0..3 {
+                a.matrix[r][k - 1] = w[k][r] - w[0][r];
+            }
+        }
+        if w.len() == 3 {
+            a.matrix[2][2] = 1.0; // 2D: leave ζ alone (it is 0 on the triangle)
+        }
+        a
+    }
+}
+
+fn mid(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        0.5 * (a[0] + b[0]),
+        0.5 * (a[1] + b[1]),
+        0.5 * (a[2] + b[2]),
+    ]
+}
+
+/// The midpoint refinement of the reference triangle into 4 triangles, as vertex triples.
+fn triangle_children() -> Vec<[[f64; 3]; 3]> {
+    let v = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let (m01, m12, m02) = (mid(v[0], v[1]), mid(v[1], v[2]), mid(v[0], v[2]));
+    vec![
+        [v[0], m01, m02],
+        [m01, v[1], m12],
+        [m02, m12, v[2]],
+        [m12, m02, m01],
+    ]
+}
+
+/// Sub-elements of a reference element after one midpoint refinement.
+fn children(shape: Shape) -> Vec<Affine> {
+    let half = |o: [f64; 3]| Affine {
+        origin: o,
+        matrix: [[0.5, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 0.5]],
+    };
+    match shape {
+        Shape::Line => vec![half([0.0; 3]), half([0.5, 0.0, 0.0])],
+        Shape::Tri => triangle_children()
+            .iter()
+            .map(|w| Affine::simplex(w))
+            .collect(),
+        Shape::Quad => [[0.0, 0.0], [0.5, 0.0], [0.0, 0.5], [0.5, 0.5]]
+            .iter()
+            .map(|o| half([o[0], o[1], 0.0]))
+            .collect(),
+        Shape::Hex => (0..8)
+            .map(|c| {
+                let b = |k: usize| if c >> k & 1 == 1 { 0.5 } else { 0.0 };
+                half([b(0), b(1), b(2)])
+            })
+            .collect(),
+        Shape::Tet => {
+            // Red refinement: 4 corner tetrahedra and the inner octahedron cut along the
+            // diagonal m02–m13 into 4 (the cycle m01, m12, m23, m03 runs around it).
+            let v = Shape::Tet.vertices();
+            let m = |a: usize, b: usize| mid(v[a], v[b]);
+            let (m01, m02, m03, m12, m13, m23) =
+                (m(0, 1), m(0, 2), m(0, 3), m(1, 2), m(1, 3), m(2, 3));
+            [
+                [v[0], m01, m02, m03],
+                [m01, v[1], m12, m13],
+                [m02, m12, v[2], m23],
+                [m03, m13, m23, v[3]],
+                [m02, m13, m01, m12],
+                [m02, m13, m12, m23],
+                [m02, m13, m23, m03],
+                [m02, m13, m03, m01],
+            ]
+            .iter()
+            .map(|w| Affine::simplex(w))
+            .collect()
+        }
+        Shape::Prism => {
+            let mut out = Vec::with_capacity(8);
+            for z in [0.0, 0.5] {
+                for w in triangle_children() {
+                    let mut a = Affine::simplex(&w);
+                    a.origin[2] = z;
+                    a.matrix[2][2] = 0.5;
+                    out.push(a);
+                }
+            }
+            out
+        }
+    }
+}
+
+/// det J in Bernstein form for one (shape, order, family): the lattice sampler of the whole
+/// element, the Lagrange basis for sub-elements, the conversion, the refinement pattern.
+#[derive(Debug, Clone)]
+pub struct JacobianBezier {
+    space: BernsteinSpace,
+    root: JacobianSampler,
+    basis: LagrangeBasis,
+    children: Vec<Affine>,
+}
+
+/// Scratch memory of [`JacobianBezier::check_with`]; reuse one per thread.
+#[derive(Debug, Clone, Default)]
+pub struct BezierWorkspace {
+    jacobian: JacobianWorkspace,
+    coords: Vec<[f64; 3]>,
+    values: Vec<f64>,
+    tmp: Vec<f64>,
+    grad_scratch: Vec<[f64; 3]>,
+    grads: Vec<[f64; 3]>,
+    stack: Vec<(Affine, usize)>,
+}
+
+impl JacobianBezier {
+    /// Precomputes everything for order-`order` elements of `shape` with `family` nodes.
+    pub fn new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, QualityError> {
+        let space = BernsteinSpace::for_jacobian(shape, order)?;
+        let root = JacobianSampler::at_points(shape, order, family, space.points())?;
+        let basis = LagrangeBasis::new(&ReferenceNodes::try_new(shape, order, family)?)?;
+        Ok(JacobianBezier {
+            space,
+            root,
+            basis,
+            children: children(shape),
+        })
+    }
+
+    /// The Bernstein space of det J.
+    pub fn space(&self) -> &BernsteinSpace {
+        &self.space
+    }
+
+    /// The Bernstein coefficients of det J on the whole element with node coordinates
+    /// `coords` (canonical local order); evaluate with [`BernsteinSpace::eval`].
+    pub fn coefficients(&self, coords: &[[f64; 3]]) -> Vec<f64> {
+        let mut workspace = JacobianWorkspace::default();
+        let mut c = self.root.determinants_with(coords, &mut workspace).to_vec();
+        self.space.values_to_coefficients(&mut c, &mut Vec::new());
+        c
+    }
+
+    /// det J at the lattice points of the sub-element `map`, into `ws.values`.
+    fn sample_region(
+        &self,
+        coords: &[[f64; 3]],
+        map: &Affine,
+        grad_scratch: &mut Vec<[f64; 3]>,
+        grads: &mut Vec<[f64; 3]>,
+        values: &mut Vec<f64>,
+    ) {
+        let dim = self.space.shape().dim();
+        let n = self.basis.len();
+        grad_scratch.resize(n, [0.0; 3]);
+        grads.resize(n, [0.0; 3]);
+        values.clear();
+        for &eta in self.space.points() {
+            let xi = map.apply(eta);
+            self.basis.eval_grad_with(xi, grad_scratch, grads);
+            let mut j = [[0.0; 3]; 3];
+            for (x, g) in coords.iter().zip(grads.iter()) {
+                for d in 0..dim {
+                    for k in 0..dim {
+                        j[d][k] += x[d] * g[k];
+                    }
+                }
+            }
+            values.push(determinant(&j, dim));
+        }
+    }
+
+    /// Runs the check on the element with node coordinates `coords`.
+    pub fn check_with(
+        &self,
+        coords: &[[f64; 3]],
+        options: &BezierOptions,
+        ws: &mut BezierWorkspace,
+    ) -> ValidityCheck {
+        let BezierWorkspace {
+            jacobian,
+            values,
+            tmp,
+            grad_scratch,
+            grads,
+            stack,
+            ..
+        } = ws;
+        let root = self.root.determinants_with(coords, jacobian);
+        let (sample_min, sample_max) = min_max(root);
+        let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let value_margin = (32.0 + coords.len() as f64) * f64::EPSILON * scale;
+        let coefficient_margin = value_margin * self.space.conversion_norm().max(1.0);
+        if !scale.is_finite() || scale == 0.0 {
+            // Non-finite coordinates or a collapsed element: nothing can be certified.
+            let validity = if sample_min < 0.0 {
+                Validity::Invalid
+            } else {
+                Validity::Undecided
+            };
+            return ValidityCheck {
+                validity,
+                min_jacobian_lower_bound: f64::NAN,
+                max_jacobian_upper_bound: f64::NAN,
+                scaled_jacobian_lower_bound: -1.0,
+                scaled_jacobian_upper_bound: crate::scaled_ratio(sample_min, sample_max),
+                regions: 1,
+            };
+        }
+
+        let mut lower = f64::INFINITY;
+        let mut upper = f64::NEG_INFINITY;
+        let (mut sampled_min, mut sampled_max) = (sample_min, sample_max);
+        let (mut negative, mut undecided) = (false, false);
+        let mut regions = 0;
+        stack.clear();
+        stack.push((Affine::IDENTITY, 0));
+        while let Some((map, depth)) = stack.pop() {
+            regions += 1;
+            if depth == 0 {
+                values.clear();
+                values.extend_from_slice(root);
+            } else {
+                self.sample_region(coords, &map, grad_scratch, grads, values);
+            }
+            let (vmin, vmax) = min_max(values);
+            sampled_min = sampled_min.min(vmin);
+            sampled_max = sampled_max.max(vmax);
+            self.space.values_to_coefficients(values, tmp);
+            let (cmin, cmax) = min_max(values);
+            let found_negative = vmin < -value_margin;
+            negative |= found_negative;
+            let certified = cmin > coefficient_margin;
+            // Once an inversion is found the verdict is settled: stop refining and keep the
+            // (looser) bounds of the current regions.
+            if certified || negative || depth >= options.max_depth {
+                undecided |= !certified && !found_negative;
+                lower = lower.min(cmin);
+                upper = upper.max(cmax);
+                continue;
+            }
+            for child in &self.children {
+                stack.push((map.compose(child), depth + 1));
+            }
+        }
+
+        let validity = if negative {
+            Validity::Invalid
+        } else if undecided {
+            Validity::Undecided
+        } else {
+            Validity::Valid
+        };
+        // Coefficient bounds hold up to the conversion's rounding: widen by the margin.
+        let lower = lower - coefficient_margin;
+        let upper = upper + coefficient_margin;
+        // min/max ≥ lower/upper when lower ≥ 0; ≥ lower/(a lower bound of max) otherwise.
+        let scaled_lower = if lower >= 0.0 {
+            lower / upper
+        } else if sampled_max > 0.0 {
+            lower / sampled_max
+        } else {
+            -1.0
+        };
+        let scaled_upper = if sampled_min >= 0.0 {
+            sampled_min / sampled_max
+        } else {
+            sampled_min / upper
+        };
+        ValidityCheck {
+            validity,
+            min_jacobian_lower_bound: lower,
+            max_jacobian_upper_bound: upper,
+            scaled_jacobian_lower_bound: scaled_lower,
+            scaled_jacobian_upper_bound: scaled_upper,
+            regions,
+        }
+    }
+}
+
+/// det of the leading dim×dim block.
+fn determinant(j: &[[f64; 3]; 3], dim: usize) -> f64 {
+    if dim == 2 {
+        j[0][0] * j[1][1] - j[0][1] * j[1][0]
+    } else {
+        j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
+            - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
+            + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
+    }
+}
+
+/// The Bézier validity check of every cell (Vec indexed like `mesh.cells`), in parallel and
+/// deterministic.
+pub fn check_validity(
+    mesh: &HighOrderMesh,
+    options: &BezierOptions,
+) -> Result<Vec<ValidityCheck>, QualityError> {
+    let shapes = check_cells(mesh)?;
+    let checkers: BTreeMap<Shape, JacobianBezier> = shapes
+        .iter()
+        .map(|&s| Ok((s, JacobianBezier::new(s, mesh.order, mesh.family)?)))
+        .collect::<Result<_, QualityError>>()?;
+    let results: Vec<Option<ValidityCheck>> = mesh
+        .cells
+        .par_iter()
+        .map_init(BezierWorkspace::default, |ws, cell| {
+            let checker = cell.kind.shape().ok().and_then(|s| checkers.get(&s))?;
+            let mut coords = std::mem::take(&mut ws.coords);
+            gather(mesh, cell, &mut coords);
+            let check = checker.check_with(&coords, options, ws);
+            ws.coords = coords;
+            Some(check)
+        })
+        .collect();
+    // Every cell was checked by check_cells, so None cannot occur; map it to an error
+    // rather than panic all the same.
+    results
+        .into_iter()
+        .enumerate()
+        .map(|(element, r)| {
+            r.ok_or(QualityError::UnsupportedElement {
+                element,
+                kind: mesh.cells[element].kind,
+            })
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::jacobian::jacobian_determinants;
+    use crate::test_meshes::{box_tets, hash01, single_element};
+    use crate::{scaled_jacobian, Sampling};
+    use hocurve_mesh::ElementType;
+
+    const ALL_TYPES: [ElementType; 5] = [
+        ElementType::Tri,
+        ElementType::Quad,
+        ElementType::Tet,
+        ElementType::Hex,
+        ElementType::Prism,
+    ];
+
+    fn check_one(mesh: &HighOrderMesh, max_depth: usize) -> ValidityCheck {
+        check_validity(mesh, &BezierOptions { max_depth }).unwrap()[0]
+    }
+
+    /// Deterministic random points inside the reference element.
+    fn random_points(shape: Shape, count: usize) -> Vec<[f64; 3]> {
+        let mut out = Vec::new();
+        let mut seed = 7;
+        while out.len() < count {
+            let mut x = [0.0; 3];
+            for c in x.iter_mut().take(shape.dim()) {
+                *c = hash01(seed);
+                seed += 1;
+            }
+            let inside = match shape {
+                Shape::Tri | Shape::Prism => x[0] + x[1] <= 1.0,
+                Shape::Tet => x[0] + x[1] + x[2] <= 1.0,
+                _ => true,
+            };
+            if inside {
+                out.push(x);
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn bezier_coefficients_reproduce_det_j_at_random_points() {
+        // Randomly curved elements: every node moved by up to ±4 % of the element size. If a
+        // degree of jacobian_degree were too low, the Bernstein polynomial could not match.
+        for kind in ALL_TYPES {
+            let shape = kind.shape().unwrap();
+            for p in 1..=3 {
+                let mut mesh = single_element(kind, p, |x| x);
+                for (i, x) in mesh.nodes.iter_mut().enumerate() {
+                    for d in 0..shape.dim() {
+                        x[d] += 0.08 * (hash01(97 * i as u64 + d as u64) - 0.5);
+                    }
+                }
+                let bezier = JacobianBezier::new(shape, p, mesh.family).unwrap();
+                let coords: Vec<[f64; 3]> = mesh.cells[0]
+                    .nodes
+                    .iter()
+                    .map(|&n| mesh.nodes[n as usize])
+                    .collect();
+                let c = bezier.coefficients(&coords);
+                let points = random_points(shape, 25);
+                let want = jacobian_determinants(&mesh, 0, &points).unwrap();
+                for (x, w) in points.iter().zip(&want) {
+                    let got = bezier.space().eval(&c, *x);
+                    assert!(
+                        (got - w).abs() < 1e-11,
+                        "{kind} p={p} at {x:?}: {got} vs {w}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn curved_valid_elements_are_certified_with_bounds_around_the_true_value() {
+        // det J = 1 + 2εξ on every shape (see the jacobian tests): Ĩ = 1/(1 + 2ε).
+        let eps = 0.4;
+        let exact = 1.0 / (1.0 + 2.0 * eps);
+        for kind in ALL_TYPES {
+            for p in 2..=3 {
+                let mesh = single_element(kind, p, |x| [x[0] + eps * x[0] * x[0], x[1], x[2]]);
+                let check = check_one(&mesh, 4);
+                assert_eq!(check.validity, Validity::Valid, "{kind} p={p}");
+                // One region suffices: a positive polynomial with positive coefficients.
+                assert_eq!(check.regions, 1, "{kind} p={p}");
+                let (lo, hi) = (
+                    check.scaled_jacobian_lower_bound,
+                    check.scaled_jacobian_upper_bound,
+                );
+                assert!(
+                    lo <= exact + 1e-12 && exact <= hi + 1e-12,
+                    "{kind} p={p}: {lo} {hi}"
+                );
+                // Lattice sampling includes the vertices, where the extremes are: tight.
+                // Up to the rounding margin, which ‖M⁻¹‖∞ amplifies (≈ 10⁻⁷ relative for
+                // hexahedra at p = 3, see the module doc).
+                assert!(
+                    (lo - exact).abs() < 1e-6 && (hi - exact).abs() < 1e-12,
+                    "{check:?}"
+                );
+                assert!((check.min_jacobian_lower_bound - 1.0).abs() < 1e-6);
+            }
+        }
+    }
+
+    #[test]
+    fn inversion_at_a_vertex_missed_by_quadrature_is_invalid() {
+        // P2 triangle whose edge-0 mid node slides by a along the edge: x = ξ + 4aξ(1−ξ−η),
+        // y = η, det J = 1 + 4a(1 − 2ξ − η): −0.2 at vertex (1, 0) for a = 0.3, positive at
+        // every interior quadrature point.
+        let a = 0.3;
+        let mesh = single_element(ElementType::Tri, 2, |x| {
+            [x[0] + 4.0 * a * x[0] * (1.0 - x[0] - x[1]), x[1], 0.0]
+        });
+        let sampled = scaled_jacobian(&mesh, Sampling::Quadrature).unwrap()[0];
+        assert!(
+            sampled > 0.0,
+            "the quadrature points should miss it: {sampled}"
+        );
+        let check = check_one(&mesh, 4);
+        assert_eq!(check.validity, Validity::Invalid);
+        let exact = (1.0 - 4.0 * a) / (1.0 + 4.0 * a);
+        assert!(check.scaled_jacobian_lower_bound <= exact + 1e-12);
+        assert!(check.scaled_jacobian_upper_bound >= exact - 1e-12);
+        assert!(check.scaled_jacobian_upper_bound < 0.0);
+    }
+
+    /// x = Aξ + (B/3)(ξ − ½)³, y = η (z = ζ): det J = A + B(ξ − ½)², negative only for
+    /// |ξ − ½| < √(−A/B) = 0.08 (with A = −0.0256, B = 4) — between the Gauss points
+    /// (nearest 0.33, 0.67 at p = 3), the equispaced nodes (1/3, 2/3) and, for the
+    /// quadrilateral, the degree-5 Bernstein lattice (0.4, 0.6). The hexahedron's degree-8
+    /// lattice has ξ = ½ and finds it at once.
+    fn strip_fold(x: [f64; 3]) -> [f64; 3] {
+        let (a, b) = (-0.0256, 4.0);
+        [a * x[0] + b / 3.0 * (x[0] - 0.5).powi(3), x[1], x[2]]
+    }
+
+    #[test]
+    fn inversion_strictly_between_all_sample_points_is_never_called_valid() {
+        for kind in [ElementType::Quad, ElementType::Hex] {
+            let mesh = single_element(kind, 3, strip_fold);
+            for sampling in [Sampling::Quadrature, Sampling::Nodes, Sampling::Both] {
+                let sampled = scaled_jacobian(&mesh, sampling).unwrap()[0];
+                assert!(sampled > 0.0, "{kind} {sampling:?}: {sampled}");
+            }
+            let unrefined = check_one(&mesh, 0);
+            assert_ne!(unrefined.validity, Validity::Valid, "{kind}");
+            let check = check_one(&mesh, 4);
+            assert_eq!(check.validity, Validity::Invalid, "{kind}");
+            if kind == ElementType::Quad {
+                // Not decided on the whole element; one halving puts a lattice point at
+                // ξ = ½ where det J = A < 0.
+                assert_eq!(unrefined.validity, Validity::Undecided);
+                assert!(check.regions > 1, "{check:?}");
+            }
+            let exact = -0.0256 / (-0.0256 + 1.0);
+            assert!(
+                check.scaled_jacobian_lower_bound <= exact,
+                "{kind}: {check:?}"
+            );
+            assert!(
+                check.scaled_jacobian_upper_bound >= exact,
+                "{kind}: {check:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn jacobian_touching_zero_is_undecided() {
+        // det J = 4(ξ − ½)² ≥ 0 with a zero on the plane ξ = ½: neither certificate applies.
+        for kind in [ElementType::Quad, ElementType::Prism] {
+            let mesh = single_element(kind, 3, |x| [4.0 / 3.0 * (x[0] - 0.5).powi(3), x[1], x[2]]);
+            let check = check_one(&mesh, 2);
+            assert_eq!(check.validity, Validity::Undecided, "{kind}");
+            assert!(check.min_jacobian_lower_bound <= 0.0);
+            assert!(check.regions > 1);
+        }
+    }
+
+    #[test]
+    fn straight_meshes_are_valid_and_the_check_is_deterministic() {
+        let linear = box_tets(2);
+        let mut mesh =
+            HighOrderMesh::from_linear(&linear, 3, hocurve_nodes::NodeFamily::Fekete).unwrap();
+        let checks = check_validity(&mesh, &BezierOptions::default()).unwrap();
+        assert!(checks
+            .iter()
+            .all(|c| c.validity == Validity::Valid && c.regions == 1));
+        assert!(checks
+            .iter()
+            .all(|c| (c.scaled_jacobian_lower_bound - 1.0).abs() < 1e-9));
+        for (i, x) in mesh.nodes.iter_mut().enumerate() {
+            for d in 0..3 {
+                x[d] += 0.01 * (hash01(5 * i as u64 + d as u64) - 0.5);
+            }
+        }
+        let run = |threads: usize| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap();
+            pool.install(|| check_validity(&mesh, &BezierOptions::default()).unwrap())
+        };
+        let one = run(1);
+        assert_eq!(one, run(2));
+        // The certified lower bound never exceeds the sampled scaled Jacobian.
+        let sampled = scaled_jacobian(&mesh, Sampling::Both).unwrap();
+        for (c, s) in one.iter().zip(&sampled) {
+            assert!(c.scaled_jacobian_lower_bound <= s + 1e-12);
+            if c.validity == Validity::Valid {
+                assert!(c.scaled_jacobian_lower_bound > 0.0);
+            }
+        }
+    }
+}
