@@ -107,6 +107,9 @@ fn run(cli: Cli) -> Result<()> {
                     boundary_nodes,
                 )?;
             }
+            let quality =
+                hocurve_quality::assess(&high_order, &hocurve_quality::QualityOptions::default())?;
+            print!("{}", quality.summary);
             hocurve_io::write_mesh(&output, &high_order)?;
             println!(
                 "{}: {}D, {} cells, order {} ({} nodes): {} nodes, {} boundary facets -> {} ({:.2} s)",
