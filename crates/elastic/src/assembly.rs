@@ -1,0 +1,200 @@
+//! Global assembly of the stiffness matrix and load vector (dof = node · dim + component).
+//!
+//! The block sparsity pattern comes from the cell connectivity once; cells are coloured so
+//! that no two cells of a colour share a node, and each colour is assembled in parallel.
+//! Every matrix entry therefore receives its contributions one colour after the other,
+//! in the same order whatever the number of threads: the matrix is bitwise reproducible.
+
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use hocurve_mesh::{HighOrderMesh, MeshError};
+use hocurve_nodes::Shape;
+use rayon::prelude::*;
+
+use crate::element_matrix::{
+    element_stiffness, invert_jacobian, isoparametric_jacobian, ElementScratch,
+};
+use crate::reference_element::ReferenceElement;
+use crate::sparsity::{colour_cells, node_cells, node_graph, Adjacency};
+use crate::{ElasticError, Material};
+
+/// A CSR matrix with 32-bit column indices (sprs).
+pub type StiffnessMatrix = sprs::CsMatI<f64, u32, usize>;
+
+/// A body force density f(x) (force per unit volume; per unit area in 2D).
+pub type BodyForce<'a> = dyn Fn([f64; 3]) -> [f64; 3] + Sync + 'a;
+
+/// The assembled stiffness matrix with what later steps reuse.
+pub(crate) struct Assembled {
+    pub matrix: StiffnessMatrix,
+    /// Node adjacency: the block pattern of `matrix`.
+    pub graph: Adjacency,
+    /// Cells around each node.
+    pub cells_of_node: Adjacency,
+    pub references: BTreeMap<Shape, ReferenceElement>,
+}
+
+fn check_dim(mesh: &HighOrderMesh) -> Result<(), ElasticError> {
+    if mesh.dim == 2 || mesh.dim == 3 {
+        Ok(())
+    } else {
+        Err(MeshError::UnsupportedDimension(mesh.dim).into())
+    }
+}
+
+/// The stiffness matrix K of `mesh` (size N·dim, dof = node · dim + component), with every
+/// node's row present (a node in no cell has an empty, zero row block).
+///
+/// K_ij = a(Φ_j e_d, Φ_i e_c) with a(u, v) = ∫ λ div u div v + 2μ ε(u) : ε(v) dx.
+pub fn assemble_stiffness(
+    mesh: &HighOrderMesh,
+    material: &Material,
+) -> Result<StiffnessMatrix, ElasticError> {
+    Ok(assemble(mesh, material)?.matrix)
+}
+
+pub(crate) fn assemble(
+    mesh: &HighOrderMesh,
+    material: &Material,
+) -> Result<Assembled, ElasticError> {
+    material.validate()?;
+    check_dim(mesh)?;
+    let references = ReferenceElement::for_mesh(mesh)?;
+    let dim = mesh.dim;
+    let (lambda, mu) = material.lame();
+    let cells_of_node = node_cells(mesh);
+    let graph = node_graph(mesh, &cells_of_node);
+
+    // Dof pattern: the row of (n, c) holds, for each neighbour m of n, the dofs m·dim + 0..dim.
+    let nodes = mesh.nodes.len();
+    let mut indptr = Vec::with_capacity(nodes * dim + 1);
+    indptr.push(0usize);
+    for n in 0..nodes {
+        let len = graph.row(n).len() * dim;
+        for _ in 0..dim {
+            indptr.push(indptr[indptr.len() - 1] + len);
+        }
+    }
+    let nnz = indptr[nodes * dim];
+    let mut indices = Vec::with_capacity(nnz);
+    for n in 0..nodes {
+        for _ in 0..dim {
+            for &m in graph.row(n) {
+                for d in 0..dim {
+                    indices.push(m * dim as u32 + d as u32);
+                }
+            }
+        }
+    }
+    // Cells of one colour touch disjoint rows, so plain load/store on the atomics never
+    // races; atomics only make that sharing expressible without `unsafe`.
+    let values: Vec<AtomicU64> = (0..nnz).map(|_| AtomicU64::new(0)).collect();
+
+    for class in colour_cells(mesh, &cells_of_node) {
+        class
+            .par_iter()
+            .try_for_each_init(ElementScratch::default, |scratch, &c| {
+                let c = c as usize;
+                let cell = &mesh.cells[c];
+                let reference = &references[&cell.kind.shape()?];
+                scratch.coords.clear();
+                scratch
+                    .coords
+                    .extend(cell.nodes.iter().map(|&n| mesh.nodes[n as usize]));
+                element_stiffness(reference, lambda, mu, c, scratch)?;
+                let size = cell.nodes.len() * dim;
+                for (a, &na) in cell.nodes.iter().enumerate() {
+                    let row = graph.row(na as usize);
+                    for (b, nb) in cell.nodes.iter().enumerate() {
+                        let Ok(pos) = row.binary_search(nb) else {
+                            continue; // unreachable: the graph holds every cell's nodes
+                        };
+                        for ci in 0..dim {
+                            let start = indptr[na as usize * dim + ci] + pos * dim;
+                            let local = (a * dim + ci) * size + b * dim;
+                            for d in 0..dim {
+                                let slot = &values[start + d];
+                                let sum = f64::from_bits(slot.load(Ordering::Relaxed))
+                                    + scratch.matrix[local + d];
+                                slot.store(sum.to_bits(), Ordering::Relaxed);
+                            }
+                        }
+                    }
+                }
+                Ok::<(), ElasticError>(())
+            })?;
+    }
+    let data: Vec<f64> = values
+        .into_iter()
+        .map(|v| f64::from_bits(v.into_inner()))
+        .collect();
+    let size = nodes * dim;
+    Ok(Assembled {
+        matrix: StiffnessMatrix::new((size, size), indptr, indices, data),
+        graph,
+        cells_of_node,
+        references,
+    })
+}
+
+/// The load vector F_(a,c) = ∫ Φ_a f_c dx of a body force, integrated with the degree-(2p+2)
+/// rule of each cell (dof = node · dim + component).
+pub fn assemble_load(
+    mesh: &HighOrderMesh,
+    body_force: &BodyForce<'_>,
+) -> Result<Vec<f64>, ElasticError> {
+    check_dim(mesh)?;
+    let references = ReferenceElement::for_mesh(mesh)?;
+    let dim = mesh.dim;
+    // Element vectors in parallel, summed in cell order: reproducible.
+    let element_loads: Vec<Vec<f64>> = (0..mesh.cells.len())
+        .into_par_iter()
+        .map(|c| {
+            let cell = &mesh.cells[c];
+            let reference = &references[&cell.kind.shape()?];
+            let n = reference.len;
+            let coords: Vec<[f64; 3]> =
+                cell.nodes.iter().map(|&i| mesh.nodes[i as usize]).collect();
+            let rule = &reference.load_rule;
+            let mut load = vec![0.0; n * dim];
+            for q in 0..rule.len() {
+                let values = &rule.values[q * n..(q + 1) * n];
+                let jac = isoparametric_jacobian(&coords, &rule.gradients[q * n..(q + 1) * n], dim);
+                let det = invert_jacobian(&jac, dim).1;
+                if !det.is_finite() || det == 0.0 {
+                    return Err(ElasticError::DegenerateCell {
+                        cell: c,
+                        jacobian: det,
+                    });
+                }
+                let mut x = [0.0; 3];
+                for (phi, xa) in values.iter().zip(&coords) {
+                    for d in 0..3 {
+                        x[d] += phi * xa[d];
+                    }
+                }
+                let f = body_force(x);
+                if f.iter().any(|v| !v.is_finite()) {
+                    return Err(ElasticError::NonFiniteLoad { cell: c });
+                }
+                let w = rule.weights[q] * det.abs();
+                for (a, phi) in values.iter().enumerate() {
+                    for d in 0..dim {
+                        load[a * dim + d] += w * phi * f[d];
+                    }
+                }
+            }
+            Ok(load)
+        })
+        .collect::<Result<_, ElasticError>>()?;
+    let mut total = vec![0.0; mesh.nodes.len() * dim];
+    for (cell, load) in mesh.cells.iter().zip(&element_loads) {
+        for (a, &n) in cell.nodes.iter().enumerate() {
+            for d in 0..dim {
+                total[n as usize * dim + d] += load[a * dim + d];
+            }
+        }
+    }
+    Ok(total)
+}

@@ -1,0 +1,112 @@
+//! Boundary conditions: prescribed displacements and sliding (u·n = 0) nodes, and the
+//! nodes on the boundary of a mesh.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use hocurve_mesh::{HighOrderMesh, NO_CELL};
+use hocurve_nodes::{NodeEntity, ReferenceNodes};
+
+use crate::ElasticError;
+
+/// Dirichlet-type conditions on mesh nodes.
+///
+/// A node in `prescribed` moves by the given displacement (unused components ignored in
+/// 2D). A node in `sliding` keeps its normal displacement zero, u·n = 0, and moves freely
+/// in its tangent plane (line in 2D); the normal need not be normalised. A node in both
+/// takes the prescribed value. All other nodes are free.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BoundaryConditions {
+    /// Prescribed displacement per node.
+    pub prescribed: BTreeMap<u32, [f64; 3]>,
+    /// Wall normal per sliding node.
+    pub sliding: BTreeMap<u32, [f64; 3]>,
+}
+
+impl BoundaryConditions {
+    /// Checks node ids against a mesh of `count` nodes and that values are finite and
+    /// normals non-zero.
+    pub fn validate(&self, count: usize, dim: usize) -> Result<(), ElasticError> {
+        let nodes = self.prescribed.iter().chain(&self.sliding);
+        for (&node, value) in nodes {
+            if node as usize >= count {
+                return Err(ElasticError::NodeOutOfRange { node, count });
+            }
+            if value[..dim].iter().any(|v| !v.is_finite()) {
+                return Err(ElasticError::InvalidBoundaryValue {
+                    node,
+                    what: "not finite",
+                });
+            }
+        }
+        for (&node, normal) in &self.sliding {
+            if !self.prescribed.contains_key(&node) && normal[..dim].iter().all(|&v| v == 0.0) {
+                return Err(ElasticError::InvalidBoundaryValue {
+                    node,
+                    what: "zero sliding normal",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The nodes lying on boundary facets of the mesh (faces with one cell in 3D, edges in 2D),
+/// sorted. Found from the topology, so it needs no facets declared in the file.
+pub fn boundary_nodes(mesh: &HighOrderMesh) -> Result<Vec<u32>, ElasticError> {
+    let topology = &mesh.topology;
+    let mut out = BTreeSet::new();
+    let mut references = BTreeMap::new();
+    for f in topology.boundary_facets() {
+        let c = topology.facet_cells[f][0];
+        if c == NO_CELL {
+            continue;
+        }
+        let cell = &mesh.cells[c as usize];
+        let shape = cell.kind.shape()?;
+        if let std::collections::btree_map::Entry::Vacant(slot) = references.entry(shape) {
+            slot.insert(ReferenceNodes::try_new(shape, mesh.order, mesh.family)?);
+        }
+        let entities = references[&shape].entities();
+        let on_facet: Box<dyn Fn(&NodeEntity) -> bool> = if mesh.dim == 2 {
+            let Some(k) = topology
+                .cell_edges
+                .row(c as usize)
+                .iter()
+                .position(|&e| e as usize == f)
+            else {
+                continue;
+            };
+            let [a, b] = shape.edges()[k];
+            Box::new(move |e: &NodeEntity| match *e {
+                NodeEntity::Vertex(v) => v == a || v == b,
+                NodeEntity::Edge { edge, .. } => edge == k,
+                _ => false,
+            })
+        } else {
+            let Some(k) = topology
+                .cell_faces
+                .row(c as usize)
+                .iter()
+                .position(|&x| x as usize == f)
+            else {
+                continue;
+            };
+            let face = shape.faces()[k];
+            Box::new(move |e: &NodeEntity| match *e {
+                NodeEntity::Vertex(v) => face.contains(&v),
+                NodeEntity::Edge { edge, .. } => {
+                    let [a, b] = shape.edges()[edge];
+                    face.contains(&a) && face.contains(&b)
+                }
+                NodeEntity::Face { face: g, .. } => g == k,
+                NodeEntity::Interior(_) => false,
+            })
+        };
+        for (entity, &node) in entities.iter().zip(&cell.nodes) {
+            if on_facet(entity) {
+                out.insert(node);
+            }
+        }
+    }
+    Ok(out.into_iter().collect())
+}

@@ -1,0 +1,269 @@
+//! Elimination of constrained dofs, keeping the system symmetric.
+//!
+//! Every node n gets a matrix Q_n whose k_n rows are orthonormal directions in which it may
+//! move: all dim axes for a free node, none for a prescribed node, and for a sliding node
+//! the dim − 1 tangents of a local frame (n, t₁, t₂) — its displacement is u_n = Q_nᵀ y_n,
+//! i.e. the node is rotated into the frame and the normal component, fixed at 0, removed.
+//! With T the block-diagonal map from reduced unknowns y to all dofs and u_p the prescribed
+//! values, u = T y + u_p and the condensed system is
+//!
+//! (Tᵀ K T) y = Tᵀ (F − K u_p),
+//!
+//! symmetric positive definite as soon as rigid motions are blocked. Blocks of free nodes
+//! are copied as they are (Q = I), so a problem without sliding nodes is the plain row and
+//! column elimination.
+
+use rayon::prelude::*;
+
+use crate::sparsity::Adjacency;
+use crate::{BoundaryConditions, StiffnessMatrix};
+
+/// The free directions of each node and the reduced numbering.
+#[derive(Debug, Clone)]
+pub(crate) struct Constraints {
+    pub dim: usize,
+    /// Number of free directions k_n of each node.
+    pub count: Vec<u8>,
+    /// The free directions (rows of Q_n); only the first `count` are used.
+    pub directions: Vec<[[f64; 3]; 3]>,
+    /// Whether Q_n is the identity (free node).
+    pub identity: Vec<bool>,
+    /// First reduced dof of each node (`len = nodes + 1`).
+    pub first: Vec<usize>,
+    /// Prescribed displacement u_p as a full dof vector.
+    pub prescribed: Vec<f64>,
+}
+
+/// Two unit tangents completing the unit normal `n` to an orthonormal frame (3D), or the
+/// one tangent (−n_y, n_x) in 2D.
+fn tangents(normal: [f64; 3], dim: usize) -> [[f64; 3]; 2] {
+    let len = normal[..dim].iter().map(|v| v * v).sum::<f64>().sqrt();
+    let n = normal.map(|v| v / len);
+    if dim == 2 {
+        return [[-n[1], n[0], 0.0], [0.0; 3]];
+    }
+    // Cross with the axis least aligned with n: well conditioned.
+    let axis = (0..3)
+        .min_by(|&a, &b| n[a].abs().total_cmp(&n[b].abs()))
+        .unwrap_or(0);
+    let mut e = [0.0; 3];
+    e[axis] = 1.0;
+    let cross = |a: [f64; 3], b: [f64; 3]| {
+        [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ]
+    };
+    let t1 = cross(n, e);
+    let l1 = t1.iter().map(|v| v * v).sum::<f64>().sqrt();
+    let t1 = t1.map(|v| v / l1);
+    [t1, cross(n, t1)]
+}
+
+impl Constraints {
+    pub fn new(nodes: usize, dim: usize, bc: &BoundaryConditions) -> Self {
+        let mut identity_rows = [[0.0; 3]; 3];
+        for d in 0..3 {
+            identity_rows[d][d] = 1.0;
+        }
+        let mut count = vec![dim as u8; nodes];
+        let mut directions = vec![identity_rows; nodes];
+        let mut identity = vec![true; nodes];
+        let mut prescribed = vec![0.0; nodes * dim];
+        for (&n, normal) in &bc.sliding {
+            let [t1, t2] = tangents(*normal, dim);
+            let n = n as usize;
+            count[n] = dim as u8 - 1;
+            directions[n] = [t1, t2, [0.0; 3]];
+            identity[n] = false;
+        }
+        for (&n, value) in &bc.prescribed {
+            let n = n as usize;
+            count[n] = 0;
+            identity[n] = false;
+            prescribed[n * dim..(n + 1) * dim].copy_from_slice(&value[..dim]);
+        }
+        let mut first = Vec::with_capacity(nodes + 1);
+        first.push(0);
+        for &k in &count {
+            first.push(first[first.len() - 1] + k as usize);
+        }
+        Constraints {
+            dim,
+            count,
+            directions,
+            identity,
+            first,
+            prescribed,
+        }
+    }
+
+    /// Number of reduced unknowns.
+    pub fn len(&self) -> usize {
+        self.first[self.count.len()]
+    }
+
+    /// y_n = Q_n v_n for every node: full dof vector → reduced.
+    pub fn restrict(&self, full: &[f64]) -> Vec<f64> {
+        let dim = self.dim;
+        let mut out = vec![0.0; self.len()];
+        for n in 0..self.count.len() {
+            let v = &full[n * dim..(n + 1) * dim];
+            for i in 0..self.count[n] as usize {
+                out[self.first[n] + i] = if self.identity[n] {
+                    v[i]
+                } else {
+                    (0..dim).map(|c| self.directions[n][i][c] * v[c]).sum()
+                };
+            }
+        }
+        out
+    }
+
+    /// u = T y + u_p per node.
+    pub fn expand(&self, reduced: &[f64]) -> Vec<[f64; 3]> {
+        let dim = self.dim;
+        (0..self.count.len())
+            .map(|n| {
+                let mut u = [0.0; 3];
+                u[..dim].copy_from_slice(&self.prescribed[n * dim..(n + 1) * dim]);
+                for i in 0..self.count[n] as usize {
+                    let y = reduced[self.first[n] + i];
+                    for c in 0..dim {
+                        u[c] += self.directions[n][i][c] * y;
+                    }
+                }
+                u
+            })
+            .collect()
+    }
+}
+
+/// Tᵀ K T, built node row by node row in parallel (rows are independent: reproducible).
+pub(crate) fn condense_matrix(
+    k: &StiffnessMatrix,
+    graph: &Adjacency,
+    constraints: &Constraints,
+) -> StiffnessMatrix {
+    let dim = constraints.dim;
+    let nodes = constraints.count.len();
+    let k_ptr = k.indptr().into_raw_storage();
+    let k_val = k.data();
+    let count = &constraints.count;
+    // Row pointer: every reduced row of node n has Σ_{m ~ n} k_m entries.
+    let mut indptr = Vec::with_capacity(constraints.len() + 1);
+    indptr.push(0usize);
+    for n in 0..nodes {
+        let len: usize = graph
+            .row(n)
+            .iter()
+            .map(|&m| count[m as usize] as usize)
+            .sum();
+        for _ in 0..count[n] {
+            indptr.push(indptr[indptr.len() - 1] + len);
+        }
+    }
+    let nnz = indptr[indptr.len() - 1];
+    let mut indices = vec![0u32; nnz];
+    let mut data = vec![0.0; nnz];
+    // Split the arrays into one slice per node, then fill nodes in parallel.
+    let mut index_parts = Vec::with_capacity(nodes);
+    let mut data_parts = Vec::with_capacity(nodes);
+    let (mut rest_i, mut rest_d) = (indices.as_mut_slice(), data.as_mut_slice());
+    for n in 0..nodes {
+        let len = indptr[constraints.first[n + 1]] - indptr[constraints.first[n]];
+        let (head_i, tail_i) = rest_i.split_at_mut(len);
+        let (head_d, tail_d) = rest_d.split_at_mut(len);
+        index_parts.push(head_i);
+        data_parts.push(head_d);
+        rest_i = tail_i;
+        rest_d = tail_d;
+    }
+    index_parts
+        .into_par_iter()
+        .zip(data_parts)
+        .enumerate()
+        .with_min_len(64)
+        .for_each(|(n, (idx, val))| {
+            let kn = count[n] as usize;
+            if kn == 0 {
+                return;
+            }
+            let row_len = idx.len() / kn;
+            let qn = &constraints.directions[n];
+            for i in 0..kn {
+                let mut at = i * row_len;
+                for (pos, &m) in graph.row(n).iter().enumerate() {
+                    let m = m as usize;
+                    let km = count[m] as usize;
+                    let qm = &constraints.directions[m];
+                    for j in 0..km {
+                        let value = if constraints.identity[n] && constraints.identity[m] {
+                            k_val[k_ptr[n * dim + i] + pos * dim + j]
+                        } else {
+                            let mut sum = 0.0;
+                            for c in 0..dim {
+                                let start = k_ptr[n * dim + c] + pos * dim;
+                                for d in 0..dim {
+                                    sum += qn[i][c] * k_val[start + d] * qm[j][d];
+                                }
+                            }
+                            sum
+                        };
+                        idx[at] = (constraints.first[m] + j) as u32;
+                        val[at] = value;
+                        at += 1;
+                    }
+                }
+            }
+        });
+    let size = constraints.len();
+    StiffnessMatrix::new((size, size), indptr, indices, data)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sliding_frames_are_orthonormal_and_orthogonal_to_the_normal() {
+        for normal in [
+            [1.0, 0.0, 0.0],
+            [0.0, 0.0, -3.0],
+            [1.0, 2.0, 2.0],
+            [1e-9, 1.0, 1e-9],
+        ] {
+            let len = normal.iter().map(|v| v * v).sum::<f64>().sqrt();
+            let [t1, t2] = tangents(normal, 3);
+            let dot = |a: [f64; 3], b: [f64; 3]| (0..3).map(|i| a[i] * b[i]).sum::<f64>();
+            assert!((dot(t1, t1) - 1.0).abs() < 1e-15);
+            assert!((dot(t2, t2) - 1.0).abs() < 1e-15);
+            assert!(dot(t1, t2).abs() < 1e-15);
+            assert!(dot(t1, normal).abs() < 1e-15 * len);
+            assert!(dot(t2, normal).abs() < 1e-15 * len);
+        }
+        let [t, _] = tangents([3.0, 4.0, 0.0], 2);
+        assert_eq!(t, [-0.8, 0.6, 0.0]);
+    }
+
+    #[test]
+    fn prescribed_wins_over_sliding_and_expansion_inverts_restriction() {
+        let mut bc = BoundaryConditions::default();
+        bc.prescribed.insert(0, [0.1, 0.2, 0.3]);
+        bc.sliding.insert(0, [1.0, 0.0, 0.0]);
+        bc.sliding.insert(2, [0.0, 1.0, 1.0]);
+        let c = Constraints::new(3, 3, &bc);
+        assert_eq!(c.count, vec![0, 3, 2]);
+        assert_eq!(c.first, vec![0, 0, 3, 5]);
+        // A displacement of node 2 along its wall survives restrict → expand; the normal
+        // part is removed.
+        let full = [9.0, 9.0, 9.0, 1.0, 2.0, 3.0, 0.5, 0.7, -0.7];
+        let u = c.expand(&c.restrict(&full));
+        assert_eq!(u[0], [0.1, 0.2, 0.3]);
+        assert_eq!(u[1], [1.0, 2.0, 3.0]);
+        for d in 0..3 {
+            assert!((u[2][d] - [0.5, 0.7, -0.7][d]).abs() < 1e-15);
+        }
+    }
+}

@@ -1,0 +1,350 @@
+//! Element stiffness matrices of isoparametric vector Lagrange elements.
+//!
+//! With physical basis gradients ∂_c Φ_a and G_cd[a][b] = ∫_e ∂_c Φ_a ∂_d Φ_b dx, the
+//! bilinear form a(u, v) = ∫ λ div u div v + 2μ ε(u) : ε(v) gives, for the dof pair
+//! (node a, component c), (node b, component d),
+//!
+//! K[(a,c),(b,d)] = λ G_cd[a][b] + μ G_dc[a][b] + μ δ_cd Σ_k G_kk[a][b].
+//!
+//! On a straight simplex the Jacobian J = ∂x/∂ξ is constant, ∂_c Φ = Σ_α J⁻¹_αc ∂Φ/∂ξ_α and
+//! G_cd = |det J| Σ_αβ J⁻¹_αc J⁻¹_βd S_αβ with the precomputed reference matrices S_αβ:
+//! no quadrature per element. Other cells integrate G_cd with the degree-2p rule.
+
+use crate::reference_element::ReferenceElement;
+use crate::ElasticError;
+
+/// Reusable buffers for one thread.
+#[derive(Debug, Default)]
+pub(crate) struct ElementScratch {
+    /// Node coordinates of the cell.
+    pub coords: Vec<[f64; 3]>,
+    /// G_cd for c ≤ d at index c·dim + d, each n × n.
+    g: Vec<f64>,
+    /// Physical gradients at one quadrature point.
+    grads: Vec<[f64; 3]>,
+    /// The element matrix, (n·dim)² row-major, dof (a, c) at a·dim + c.
+    pub matrix: Vec<f64>,
+}
+
+/// J⁻¹ (`inv[α][c]` = ∂ξ_α/∂x_c) and det J of `jac[c][α]` = ∂x_c/∂ξ_α, for dim 2 or 3.
+pub(crate) fn invert_jacobian(jac: &[[f64; 3]; 3], dim: usize) -> ([[f64; 3]; 3], f64) {
+    let mut inv = [[0.0; 3]; 3];
+    if dim == 2 {
+        let det = jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0];
+        inv[0][0] = jac[1][1] / det;
+        inv[0][1] = -jac[0][1] / det;
+        inv[1][0] = -jac[1][0] / det;
+        inv[1][1] = jac[0][0] / det;
+        return (inv, det);
+    }
+    let j = jac;
+    let cof = |r: usize, c: usize| {
+        let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+        let (c1, c2) = ((c + 1) % 3, (c + 2) % 3);
+        j[r1][c1] * j[r2][c2] - j[r1][c2] * j[r2][c1]
+    };
+    let det = j[0][0] * cof(0, 0) + j[0][1] * cof(0, 1) + j[0][2] * cof(0, 2);
+    for r in 0..3 {
+        for c in 0..3 {
+            // (J⁻¹)[c][r] = cofactor(r, c) / det.
+            inv[c][r] = cof(r, c) / det;
+        }
+    }
+    (inv, det)
+}
+
+/// The Jacobian of the isoparametric map at one point from reference gradients.
+pub(crate) fn isoparametric_jacobian(
+    coords: &[[f64; 3]],
+    ref_grads: &[[f64; 3]],
+    dim: usize,
+) -> [[f64; 3]; 3] {
+    let mut jac = [[0.0; 3]; 3];
+    for (x, g) in coords.iter().zip(ref_grads) {
+        for c in 0..dim {
+            for alpha in 0..dim {
+                jac[c][alpha] += x[c] * g[alpha];
+            }
+        }
+    }
+    jac
+}
+
+fn checked_det(det: f64, cell: usize) -> Result<f64, ElasticError> {
+    // Relative to nothing: a determinant that is exactly 0 or not finite cannot be used;
+    // tiny but non-zero ones are the caller's geometry and are kept.
+    if det.is_finite() && det != 0.0 {
+        Ok(det.abs())
+    } else {
+        Err(ElasticError::DegenerateCell {
+            cell,
+            jacobian: det,
+        })
+    }
+}
+
+/// Computes the stiffness matrix of `cell` (coordinates in `scratch.coords`) into
+/// `scratch.matrix`.
+pub(crate) fn element_stiffness(
+    reference: &ReferenceElement,
+    lambda: f64,
+    mu: f64,
+    cell: usize,
+    scratch: &mut ElementScratch,
+) -> Result<(), ElasticError> {
+    let n = reference.len;
+    let dim = reference.dim;
+    let nn = n * n;
+    scratch.g.clear();
+    scratch.g.resize(dim * dim * nn, 0.0);
+    scratch.grads.resize(n, [0.0; 3]);
+    let coords = &scratch.coords;
+
+    match &reference.simplex_stiffness {
+        Some(s) if reference.is_affine_simplex(coords) => {
+            let mut jac = [[0.0; 3]; 3];
+            for alpha in 0..dim {
+                for c in 0..dim {
+                    jac[c][alpha] = coords[alpha + 1][c] - coords[0][c];
+                }
+            }
+            let (inv, det) = invert_jacobian(&jac, dim);
+            let det = checked_det(det, cell)?;
+            for c in 0..dim {
+                for d in c..dim {
+                    let g = &mut scratch.g[(c * dim + d) * nn..(c * dim + d + 1) * nn];
+                    for alpha in 0..dim {
+                        for beta in 0..dim {
+                            let coefficient = det * inv[alpha][c] * inv[beta][d];
+                            for (gk, sk) in g.iter_mut().zip(&s[alpha * dim + beta]) {
+                                *gk += coefficient * sk;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        _ => {
+            let rule = &reference.stiffness_rule;
+            for q in 0..rule.len() {
+                let ref_grads = &rule.gradients[q * n..(q + 1) * n];
+                let jac = isoparametric_jacobian(coords, ref_grads, dim);
+                let (inv, det) = invert_jacobian(&jac, dim);
+                let weight = rule.weights[q] * checked_det(det, cell)?;
+                for (phys, g) in scratch.grads.iter_mut().zip(ref_grads) {
+                    for c in 0..dim {
+                        phys[c] = (0..dim).map(|alpha| g[alpha] * inv[alpha][c]).sum();
+                    }
+                }
+                let grads = &scratch.grads;
+                for c in 0..dim {
+                    for d in c..dim {
+                        let g = &mut scratch.g[(c * dim + d) * nn..(c * dim + d + 1) * nn];
+                        for a in 0..n {
+                            let wa = weight * grads[a][c];
+                            for (gk, gb) in g[a * n..(a + 1) * n].iter_mut().zip(grads) {
+                                *gk += wa * gb[d];
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    // K[(a,c),(b,d)] = λ G_cd[a][b] + μ G_dc[a][b] + μ δ_cd tr G[a][b], G_dc = G_cdᵀ.
+    let size = n * dim;
+    scratch.matrix.clear();
+    scratch.matrix.resize(size * size, 0.0);
+    let g = &scratch.g;
+    let at = |c: usize, d: usize, a: usize, b: usize| {
+        if c <= d {
+            g[(c * dim + d) * nn + a * n + b]
+        } else {
+            g[(d * dim + c) * nn + b * n + a]
+        }
+    };
+    for a in 0..n {
+        for b in 0..n {
+            let trace: f64 = (0..dim).map(|k| at(k, k, a, b)).sum();
+            for c in 0..dim {
+                let row = (a * dim + c) * size + b * dim;
+                for d in 0..dim {
+                    let mut value = lambda * at(c, d, a, b) + mu * at(d, c, a, b);
+                    if c == d {
+                        value += mu * trace;
+                    }
+                    scratch.matrix[row + d] = value;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_nodes::{NodeFamily, ReferenceNodes, Shape};
+
+    fn straight_coords(shape: Shape, p: usize, corners: &[[f64; 3]]) -> Vec<[f64; 3]> {
+        ReferenceNodes::new(shape, p, NodeFamily::GaussLobatto)
+            .points()
+            .iter()
+            .map(|&xi| {
+                let (w, nv) = shape.vertex_shape_functions(xi);
+                let mut x = [0.0; 3];
+                for v in 0..nv {
+                    for d in 0..3 {
+                        x[d] += w[v] * corners[v][d];
+                    }
+                }
+                x
+            })
+            .collect()
+    }
+
+    /// uᵀ K u = ∫ σ : ε for a linear field u = A x: 2μ |sym A|² + λ (tr A)² times the volume.
+    fn check_energy(shape: Shape, corners: &[[f64; 3]], volume: f64) {
+        let (lambda, mu) = (1.7, 0.6);
+        let dim = shape.dim();
+        let a = [[0.3, -0.2, 0.5], [0.7, 0.1, -0.4], [0.2, 0.9, -0.3]];
+        let mut strain = 0.0;
+        let mut trace = 0.0;
+        for c in 0..dim {
+            trace += a[c][c];
+            for d in 0..dim {
+                let e = 0.5 * (a[c][d] + a[d][c]);
+                strain += e * e;
+            }
+        }
+        let exact = volume * (2.0 * mu * strain + lambda * trace * trace);
+        for p in 1..=4 {
+            let reference = ReferenceElement::new(shape, p, NodeFamily::GaussLobatto).unwrap();
+            let mut scratch = ElementScratch {
+                coords: straight_coords(shape, p, corners),
+                ..Default::default()
+            };
+            element_stiffness(&reference, lambda, mu, 0, &mut scratch).unwrap();
+            let n = reference.len;
+            let mut u = vec![0.0; n * dim];
+            for (i, x) in scratch.coords.iter().enumerate() {
+                for c in 0..dim {
+                    u[i * dim + c] = (0..dim).map(|d| a[c][d] * x[d]).sum();
+                }
+            }
+            let size = n * dim;
+            let mut energy = 0.0;
+            for i in 0..size {
+                for j in 0..size {
+                    energy += u[i] * scratch.matrix[i * size + j] * u[j];
+                }
+            }
+            assert!(
+                (energy - exact).abs() < 1e-10 * exact.abs(),
+                "{shape:?} p={p}: {energy} vs {exact}"
+            );
+            // Symmetric, and rigid translations cost nothing.
+            for i in 0..size {
+                for j in 0..i {
+                    let (x, y) = (scratch.matrix[i * size + j], scratch.matrix[j * size + i]);
+                    assert!((x - y).abs() < 1e-11 * (1.0 + x.abs()));
+                }
+                for c in 0..dim {
+                    let s: f64 = (0..n).map(|b| scratch.matrix[i * size + b * dim + c]).sum();
+                    assert!(s.abs() < 1e-10, "translation energy {s}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn linear_fields_have_the_exact_strain_energy_on_every_shape() {
+        let tri = [[0.1, 0.0, 0.0], [1.3, 0.2, 0.0], [0.4, 0.9, 0.0]];
+        // Area = ½ |(1.2, 0.2) × (0.3, 0.9)| = ½ (1.08 − 0.06) = 0.51.
+        check_energy(Shape::Tri, &tri, 0.51);
+        // A trapezoid with corners (0,0), (2,0), (1.5,1), (0.5,1): area 1.5.
+        let quad = [
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [1.5, 1.0, 0.0],
+            [0.5, 1.0, 0.0],
+        ];
+        check_energy(Shape::Quad, &quad, 1.5);
+        let tet = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.1, 0.0],
+            [0.2, 1.0, 0.1],
+            [0.1, 0.3, 1.2],
+        ];
+        // det [[1,0.2,0.1],[0.1,1,0.3],[0,0.1,1.2]] / 6.
+        let det = 1.0 * (1.0 * 1.2 - 0.3 * 0.1) - 0.2 * (0.1 * 1.2 - 0.0) + 0.1 * (0.01 - 0.0);
+        check_energy(Shape::Tet, &tet, det / 6.0);
+        // A frustum-like hexahedron: the unit cube with its top face shrunk to [0.25, 0.75]²
+        // at height 1: volume ∫₀¹ (1 − z/2)² dz = 1 − 1/2 + 1/12 = 7/12.
+        let hex = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.25, 0.25, 1.0],
+            [0.75, 0.25, 1.0],
+            [0.75, 0.75, 1.0],
+            [0.25, 0.75, 1.0],
+        ];
+        check_energy(Shape::Hex, &hex, 7.0 / 12.0);
+        // A prism with a sheared top: unit right triangle × height 2, volume 1.
+        let prism = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.3, 0.1, 2.0],
+            [1.3, 0.1, 2.0],
+            [0.3, 1.1, 2.0],
+        ];
+        check_energy(Shape::Prism, &prism, 1.0);
+    }
+
+    #[test]
+    fn affine_fast_path_equals_quadrature() {
+        // Same tetrahedron through both paths: move nothing, but disable the fast path.
+        let tet = [
+            [0.0, 0.0, 0.0],
+            [1.0, 0.1, 0.0],
+            [0.2, 1.0, 0.1],
+            [0.1, 0.3, 1.2],
+        ];
+        for p in 1..=4 {
+            let fast = ReferenceElement::new(Shape::Tet, p, NodeFamily::Fekete).unwrap();
+            let mut slow = fast.clone();
+            slow.simplex_stiffness = None;
+            let coords = straight_coords(Shape::Tet, p, &tet);
+            let mut a = ElementScratch {
+                coords: coords.clone(),
+                ..Default::default()
+            };
+            let mut b = ElementScratch {
+                coords,
+                ..Default::default()
+            };
+            element_stiffness(&fast, 2.0, 1.0, 0, &mut a).unwrap();
+            element_stiffness(&slow, 2.0, 1.0, 0, &mut b).unwrap();
+            let scale = a.matrix.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            for (x, y) in a.matrix.iter().zip(&b.matrix) {
+                assert!((x - y).abs() < 1e-12 * scale, "p={p}: {x} vs {y}");
+            }
+        }
+    }
+
+    #[test]
+    fn collapsed_cells_are_errors() {
+        let reference = ReferenceElement::new(Shape::Tri, 2, NodeFamily::Equispaced).unwrap();
+        let flat = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
+        let mut scratch = ElementScratch {
+            coords: straight_coords(Shape::Tri, 2, &flat),
+            ..Default::default()
+        };
+        let err = element_stiffness(&reference, 1.0, 1.0, 7, &mut scratch).unwrap_err();
+        assert!(matches!(err, ElasticError::DegenerateCell { cell: 7, .. }));
+    }
+}

@@ -1,0 +1,216 @@
+//! Everything about one reference element that assembly needs, computed once per
+//! (shape, order, family): nodes, vertex shape functions at the nodes, the reference
+//! stiffness matrices of simplices and the basis at the quadrature points.
+
+use std::collections::BTreeMap;
+
+use hocurve_mesh::HighOrderMesh;
+use hocurve_nodes::{LagrangeBasis, NodeFamily, QuadratureRule, ReferenceNodes, Shape};
+
+use crate::ElasticError;
+
+/// Values and reference gradients of the Lagrange basis at the points of a quadrature rule.
+#[derive(Debug, Clone)]
+pub(crate) struct TabulatedRule {
+    /// Quadrature weights wq.
+    pub weights: Vec<f64>,
+    /// Φᵢ(ξq), row-major `[q * n + i]`.
+    pub values: Vec<f64>,
+    /// ∇_ξ Φᵢ(ξq), `[q * n + i]`.
+    pub gradients: Vec<[f64; 3]>,
+}
+
+impl TabulatedRule {
+    fn new(basis: &LagrangeBasis, rule: &QuadratureRule) -> Self {
+        let n = basis.len();
+        let mut values = vec![0.0; rule.len() * n];
+        let mut gradients = vec![[0.0; 3]; rule.len() * n];
+        for (q, xi) in rule.points.iter().enumerate() {
+            basis.eval(*xi, &mut values[q * n..(q + 1) * n]);
+            basis.eval_grad(*xi, &mut gradients[q * n..(q + 1) * n]);
+        }
+        TabulatedRule {
+            weights: rule.weights.clone(),
+            values,
+            gradients,
+        }
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.weights.len()
+    }
+}
+
+/// A reference element of one shape at the mesh's order and node family.
+#[derive(Debug, Clone)]
+pub(crate) struct ReferenceElement {
+    pub shape: Shape,
+    /// Topological dimension (= mesh dimension).
+    pub dim: usize,
+    /// Number of nodes n.
+    pub len: usize,
+    /// Vertex shape functions Nᵥ(ξⱼ) at each node ξⱼ (`[j][v]`): the straight-sided map and
+    /// the p = 1 → p prolongation.
+    pub vertex_weights: Vec<[f64; 8]>,
+    /// Simplices only: the reference matrices S_αβ[i][j] = ∫ ∂Φᵢ/∂ξ_α ∂Φⱼ/∂ξ_β dξ, at index
+    /// `α * dim + β`, each n × n row-major.
+    pub simplex_stiffness: Option<Vec<Vec<f64>>>,
+    /// Degree-2p rule for the stiffness of non-affine cells.
+    pub stiffness_rule: TabulatedRule,
+    /// Degree-(2p + 2) rule for loads and error norms.
+    pub load_rule: TabulatedRule,
+}
+
+impl ReferenceElement {
+    pub fn new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, ElasticError> {
+        let nodes = ReferenceNodes::try_new(shape, order, family)?;
+        let basis = LagrangeBasis::new(&nodes)?;
+        let dim = shape.dim();
+        let len = nodes.len();
+        let vertex_weights = nodes
+            .points()
+            .iter()
+            .map(|&xi| shape.vertex_shape_functions(xi).0)
+            .collect();
+        let stiffness_rule = TabulatedRule::new(&basis, &QuadratureRule::new(shape, 2 * order));
+        let load_rule = TabulatedRule::new(&basis, &QuadratureRule::new(shape, 2 * order + 2));
+        let simplex_stiffness = matches!(shape, Shape::Tri | Shape::Tet).then(|| {
+            // ∂Φᵢ/∂ξ_α is of degree p − 1, so the degree-2p rule is exact.
+            let rule = &stiffness_rule;
+            let mut s = vec![vec![0.0; len * len]; dim * dim];
+            for q in 0..rule.len() {
+                let w = rule.weights[q];
+                let g = &rule.gradients[q * len..(q + 1) * len];
+                for alpha in 0..dim {
+                    for beta in 0..dim {
+                        let m = &mut s[alpha * dim + beta];
+                        for i in 0..len {
+                            let wi = w * g[i][alpha];
+                            for j in 0..len {
+                                m[i * len + j] += wi * g[j][beta];
+                            }
+                        }
+                    }
+                }
+            }
+            s
+        });
+        Ok(ReferenceElement {
+            shape,
+            dim,
+            len,
+            vertex_weights,
+            simplex_stiffness,
+            stiffness_rule,
+            load_rule,
+        })
+    }
+
+    /// The reference elements of every shape present in `mesh`, after checking that each cell
+    /// has the mesh's dimension and the right number of nodes.
+    pub fn for_mesh(mesh: &HighOrderMesh) -> Result<BTreeMap<Shape, Self>, ElasticError> {
+        let mut out = BTreeMap::new();
+        for (c, cell) in mesh.cells.iter().enumerate() {
+            let shape = cell.kind.shape()?;
+            if shape.dim() != mesh.dim {
+                return Err(ElasticError::WrongCellDimension {
+                    cell: c,
+                    kind: shape.name(),
+                    dim: mesh.dim,
+                });
+            }
+            if let std::collections::btree_map::Entry::Vacant(slot) = out.entry(shape) {
+                slot.insert(ReferenceElement::new(shape, mesh.order, mesh.family)?);
+            }
+            let expected = shape.num_nodes(mesh.order);
+            if cell.nodes.len() != expected {
+                return Err(ElasticError::WrongNodeCount {
+                    cell: c,
+                    found: cell.nodes.len(),
+                    expected,
+                });
+            }
+            if let Some(&bad) = cell.nodes.iter().find(|&&n| n as usize >= mesh.nodes.len()) {
+                return Err(ElasticError::NodeOutOfRange {
+                    node: bad,
+                    count: mesh.nodes.len(),
+                });
+            }
+        }
+        Ok(out)
+    }
+
+    /// Whether a simplex with node coordinates `coords` is straight-sided, i.e. every node
+    /// sits where the affine map of the vertices puts it (so its Jacobian is constant).
+    pub fn is_affine_simplex(&self, coords: &[[f64; 3]]) -> bool {
+        if self.simplex_stiffness.is_none() {
+            return false;
+        }
+        let nv = self.shape.num_vertices();
+        let mut size = 0.0f64;
+        for v in 1..nv {
+            for d in 0..3 {
+                size = size.max((coords[v][d] - coords[0][d]).abs());
+            }
+        }
+        let tolerance = 1e-10 * size;
+        coords.iter().zip(&self.vertex_weights).all(|(x, w)| {
+            (0..3).all(|d| {
+                let straight: f64 = (0..nv).map(|v| w[v] * coords[v][d]).sum();
+                (x[d] - straight).abs() <= tolerance
+            })
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reference_stiffness_of_the_linear_triangle() {
+        // Φ₀ = 1 − ξ − η, Φ₁ = ξ, Φ₂ = η; area 1/2: S_ξξ = ½ [[1,−1,0],[−1,1,0],[0,0,0]],
+        // S_ξη[i][j] = ½ ∂ξΦᵢ ∂ηΦⱼ = ½ [[1,0,−1],[−1,0,1],[0,0,0]].
+        let r = ReferenceElement::new(Shape::Tri, 1, NodeFamily::Equispaced).unwrap();
+        let s = r.simplex_stiffness.as_ref().unwrap();
+        let xx = [0.5, -0.5, 0.0, -0.5, 0.5, 0.0, 0.0, 0.0, 0.0];
+        let xy = [0.5, 0.0, -0.5, -0.5, 0.0, 0.5, 0.0, 0.0, 0.0];
+        for k in 0..9 {
+            assert!((s[0][k] - xx[k]).abs() < 1e-15);
+            assert!((s[1][k] - xy[k]).abs() < 1e-15);
+            // S_ηξ = S_ξηᵀ.
+            assert!((s[2][3 * (k % 3) + k / 3] - xy[k]).abs() < 1e-15);
+        }
+    }
+
+    #[test]
+    fn reference_stiffness_rows_sum_to_zero_and_traces_match_volume_integrals() {
+        // Σⱼ Φⱼ = 1 ⇒ rows of every S_αβ sum to 0; and Σᵢⱼ ξ-weighted sums give ∫ 1:
+        // with xᵢ the nodes, Σᵢⱼ ξᵢ,α S_αα[i][j] ξⱼ,α = ∫ (∂ξ_α/∂ξ_α)² = |T|.
+        for (shape, volume) in [(Shape::Tri, 0.5), (Shape::Tet, 1.0 / 6.0)] {
+            for p in 1..=5 {
+                let r = ReferenceElement::new(shape, p, NodeFamily::Fekete).unwrap();
+                let nodes = ReferenceNodes::new(shape, p, NodeFamily::Fekete);
+                let s = r.simplex_stiffness.as_ref().unwrap();
+                let n = r.len;
+                for (ab, m) in s.iter().enumerate() {
+                    for i in 0..n {
+                        let row: f64 = m[i * n..(i + 1) * n].iter().sum();
+                        assert!(row.abs() < 1e-11, "{shape:?} p={p} S{ab} row {i}: {row}");
+                    }
+                }
+                for a in 0..r.dim {
+                    let m = &s[a * r.dim + a];
+                    let mut total = 0.0;
+                    for i in 0..n {
+                        for j in 0..n {
+                            total += nodes.points()[i][a] * m[i * n + j] * nodes.points()[j][a];
+                        }
+                    }
+                    assert!((total - volume).abs() < 1e-11, "{shape:?} p={p}: {total}");
+                }
+            }
+        }
+    }
+}

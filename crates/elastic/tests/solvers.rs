@@ -1,0 +1,276 @@
+//! The solvers: CG against direct, iteration counts of the two-level preconditioner,
+//! sliding walls, thread-count independence and error cases.
+
+mod common;
+
+use common::{cube, high_order, square, Fill};
+use hocurve_elastic::{
+    assemble_stiffness, boundary_nodes, solve_displacement, solve_displacement_with_load,
+    BoundaryConditions, ElasticError, ElasticSolution, Material, SolverKind, SolverOptions,
+};
+use hocurve_mesh::{ElementType, HighOrderMesh};
+
+/// Bottom face fixed, top face pushed sideways and down with a bump profile: a genuinely
+/// 3D deformation.
+fn clamped_and_pushed(mesh: &HighOrderMesh) -> BoundaryConditions {
+    let mut bc = BoundaryConditions::default();
+    for n in boundary_nodes(mesh).unwrap() {
+        let x = mesh.nodes[n as usize];
+        if x[2] < 1e-12 {
+            bc.prescribed.insert(n, [0.0; 3]);
+        } else if x[2] > 1.0 - 1e-12 {
+            let bump = x[0] * (1.0 - x[0]) * x[1] * (1.0 - x[1]);
+            bc.prescribed.insert(n, [0.05, 0.02 * x[0], -0.3 * bump]);
+        }
+    }
+    bc
+}
+
+fn solve(mesh: &HighOrderMesh, bc: &BoundaryConditions, kind: SolverKind) -> ElasticSolution {
+    let options = SolverOptions {
+        kind,
+        ..Default::default()
+    };
+    let gravity = |_: [f64; 3]| [0.0, 0.0, -0.5];
+    solve_displacement_with_load(mesh, &Material::default(), bc, Some(&gravity), &options).unwrap()
+}
+
+#[test]
+fn cg_and_direct_agree_in_3d() {
+    for (fill, p) in [(Fill::Tet, 2), (Fill::HexPrism, 3)] {
+        let mesh = high_order(&cube(3, fill, 0.2), p);
+        let bc = clamped_and_pushed(&mesh);
+        let direct = solve(&mesh, &bc, SolverKind::Direct);
+        let cg = solve(&mesh, &bc, SolverKind::Cg);
+        assert_eq!(direct.solver_used, SolverKind::Direct);
+        assert_eq!(cg.solver_used, SolverKind::Cg);
+        assert_eq!(direct.dofs, cg.dofs);
+        assert!(cg.relative_residual <= 1e-10, "{}", cg.relative_residual);
+        let scale = direct
+            .displacement
+            .iter()
+            .flat_map(|u| u.iter())
+            .fold(0.0f64, |m, v| m.max(v.abs()));
+        let diff = direct
+            .displacement
+            .iter()
+            .zip(&cg.displacement)
+            .flat_map(|(a, b)| (0..3).map(move |d| (a[d] - b[d]).abs()))
+            .fold(0.0f64, f64::max);
+        println!(
+            "{fill:?} p={p}: {} dofs, {} CG iterations, max |u| {scale:.3e}, max diff {diff:.2e}",
+            cg.dofs, cg.iterations
+        );
+        assert!(
+            diff <= 1e-9 * scale,
+            "{fill:?}: CG and direct differ by {diff:e}"
+        );
+    }
+}
+
+#[test]
+fn two_level_iterations_stay_flat_in_p() {
+    let linear = cube(3, Fill::Tet, 0.2);
+    let mut counts = Vec::new();
+    for p in 1..=5 {
+        let mesh = high_order(&linear, p);
+        let solution = solve(&mesh, &clamped_and_pushed(&mesh), SolverKind::Cg);
+        println!(
+            "p = {p}: {} dofs, {} iterations, residual {:.1e}, solve {:.3} s",
+            solution.dofs, solution.iterations, solution.relative_residual, solution.timings.solve
+        );
+        counts.push(solution.iterations);
+    }
+    // At p = 1 the coarse space is the whole space: the preconditioner is exact.
+    assert!(counts[0] <= 2, "{counts:?}");
+    assert!(counts.iter().all(|&c| c < 200), "{counts:?}");
+}
+
+#[test]
+fn sliding_walls_reproduce_uniaxial_stress() {
+    // Symmetry planes x = 0, y = 0, z = 0 slide; the face x = 1 is pulled by ε with its
+    // lateral contraction prescribed; y = 1, z = 1 are free. The exact solution
+    // u = ε (x, −ν y, −ν z) is linear, hence reproduced exactly.
+    let material = Material::default();
+    let (eps, nu) = (0.01, material.poisson);
+    let exact = |x: [f64; 3]| [eps * x[0], -nu * eps * x[1], -nu * eps * x[2]];
+    for fill in [Fill::Tet, Fill::HexPrism] {
+        let mesh = high_order(&cube(2, fill, 0.2), 2);
+        let mut bc = BoundaryConditions::default();
+        for n in boundary_nodes(&mesh).unwrap() {
+            let x = mesh.nodes[n as usize];
+            if (x[0] - 1.0).abs() < 1e-12 {
+                bc.prescribed.insert(n, exact(x));
+            } else if let Some(axis) = (0..3).find(|&d| x[d].abs() < 1e-12) {
+                let mut normal = [0.0; 3];
+                normal[axis] = -2.0; // any length, any sign
+                bc.sliding.insert(n, normal);
+            }
+        }
+        for kind in [SolverKind::Direct, SolverKind::Cg] {
+            let options = SolverOptions {
+                kind,
+                tolerance: 1e-13,
+                ..Default::default()
+            };
+            let solution = solve_displacement(&mesh, &material, &bc, &options).unwrap();
+            for (x, u) in mesh.nodes.iter().zip(&solution.displacement) {
+                let e = exact(*x);
+                for d in 0..3 {
+                    assert!(
+                        (u[d] - e[d]).abs() < 1e-12,
+                        "{fill:?} {kind:?} at {x:?}: {u:?}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
+#[test]
+fn results_are_bitwise_identical_for_any_thread_count() {
+    let mesh = high_order(&cube(3, Fill::Tet, 0.2), 3);
+    let bc = clamped_and_pushed(&mesh);
+    let bits = |s: ElasticSolution| -> Vec<u64> {
+        s.displacement
+            .iter()
+            .flat_map(|u| u.map(f64::to_bits))
+            .collect()
+    };
+    let matrix_bits = || -> Vec<u64> {
+        let k = assemble_stiffness(&mesh, &Material::default()).unwrap();
+        k.data().iter().map(|v| v.to_bits()).collect()
+    };
+    for kind in [SolverKind::Cg, SolverKind::Direct] {
+        let one = in_pool(1, || bits(solve(&mesh, &bc, kind)));
+        let two = in_pool(2, || bits(solve(&mesh, &bc, kind)));
+        let three = in_pool(3, || bits(solve(&mesh, &bc, kind)));
+        assert!(one == two && two == three, "{kind:?}");
+    }
+    assert!(in_pool(1, matrix_bits) == in_pool(2, matrix_bits));
+}
+
+#[test]
+fn stiffness_is_symmetric_and_annihilates_rigid_motions() {
+    let mesh = high_order(&cube(2, Fill::HexPrism, 0.2), 2);
+    let k = assemble_stiffness(&mesh, &Material::default()).unwrap();
+    assert_eq!(k.rows(), 3 * mesh.nodes.len());
+    let dense = k.to_dense();
+    let scale = dense.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    // Rigid motions u = a + ω × x have zero strain: K u = 0.
+    let motions: [fn([f64; 3]) -> [f64; 3]; 4] = [
+        |_| [1.0, 0.0, 0.0],
+        |_| [0.0, 0.0, 1.0],
+        |x| [-x[1], x[0], 0.0],
+        |x| [0.0, -x[2], x[1]],
+    ];
+    for motion in motions {
+        let u: Vec<f64> = mesh.nodes.iter().flat_map(|&x| motion(x)).collect();
+        for r in 0..k.rows() {
+            let ku: f64 = (0..k.cols()).map(|c| dense[[r, c]] * u[c]).sum();
+            assert!(ku.abs() < 1e-12 * scale, "row {r}: {ku}");
+        }
+    }
+    for r in 0..k.rows() {
+        for c in 0..r {
+            assert!((dense[[r, c]] - dense[[c, r]]).abs() <= 1e-14 * scale);
+        }
+    }
+}
+
+#[test]
+fn auto_picks_direct_for_small_problems() {
+    let mesh = high_order(&square(2, ElementType::Tri, 0.0), 2);
+    let mut bc = BoundaryConditions::default();
+    for n in boundary_nodes(&mesh).unwrap() {
+        bc.prescribed
+            .insert(n, [0.0, 0.01 * mesh.nodes[n as usize][0], 0.0]);
+    }
+    let auto =
+        solve_displacement(&mesh, &Material::default(), &bc, &SolverOptions::default()).unwrap();
+    assert_eq!(auto.solver_used, SolverKind::Direct);
+    assert_eq!(auto.iterations, 0);
+    let forced = SolverOptions {
+        direct_limit_2d: 0,
+        ..Default::default()
+    };
+    let cg = solve_displacement(&mesh, &Material::default(), &bc, &forced).unwrap();
+    assert_eq!(cg.solver_used, SolverKind::Cg);
+}
+
+#[test]
+fn errors_are_reported() {
+    let mesh = high_order(&square(2, ElementType::Quad, 0.0), 2);
+    let options = SolverOptions::default();
+    let free = BoundaryConditions::default();
+    assert!(matches!(
+        solve_displacement(&mesh, &Material::default(), &free, &options),
+        Err(ElasticError::NoDirichlet)
+    ));
+    let mut bc = BoundaryConditions::default();
+    bc.prescribed.insert(0, [0.0; 3]);
+    for material in [
+        Material {
+            young: 10.0,
+            poisson: 0.5,
+        },
+        Material {
+            young: -1.0,
+            poisson: 0.3,
+        },
+    ] {
+        assert!(matches!(
+            solve_displacement(&mesh, &material, &bc, &options),
+            Err(ElasticError::InvalidMaterial { .. })
+        ));
+    }
+    let mut far = bc.clone();
+    far.prescribed.insert(10_000, [0.0; 3]);
+    assert!(matches!(
+        solve_displacement(&mesh, &Material::default(), &far, &options),
+        Err(ElasticError::NodeOutOfRange { node: 10_000, .. })
+    ));
+    let mut nan = bc.clone();
+    nan.prescribed.insert(1, [f64::NAN, 0.0, 0.0]);
+    assert!(matches!(
+        solve_displacement(&mesh, &Material::default(), &nan, &options),
+        Err(ElasticError::InvalidBoundaryValue { node: 1, .. })
+    ));
+    let mut flat = bc.clone();
+    flat.sliding.insert(2, [0.0; 3]);
+    assert!(matches!(
+        solve_displacement(&mesh, &Material::default(), &flat, &options),
+        Err(ElasticError::InvalidBoundaryValue { node: 2, .. })
+    ));
+    // One sliding node alone leaves rigid motions free: the factorisation says so.
+    let mut loose = BoundaryConditions::default();
+    loose.sliding.insert(0, [1.0, 0.0, 0.0]);
+    loose.prescribed.clear();
+    let gravity = |_: [f64; 3]| [0.0, -1.0, 0.0];
+    let err = solve_displacement_with_load(
+        &mesh,
+        &Material::default(),
+        &loose,
+        Some(&gravity),
+        &SolverOptions {
+            kind: SolverKind::Direct,
+            ..Default::default()
+        },
+    )
+    .unwrap_err();
+    assert!(
+        matches!(
+            err,
+            ElasticError::Factorization { .. } | ElasticError::NotConverged { .. }
+        ),
+        "{err}"
+    );
+}
