@@ -57,6 +57,16 @@ enum Command {
         /// projection (closest point of the straight node; the baseline).
         #[arg(long, default_value = "geodesic")]
         boundary_nodes: BoundaryNodeStrategy,
+        /// Young's modulus E of the elastic analogy.
+        #[arg(long, default_value_t = 10.0)]
+        young: f64,
+        /// Poisson's ratio ν of the elastic analogy (in (−1, 0.5)).
+        #[arg(long, default_value_t = 0.4)]
+        poisson: f64,
+        /// Move only the boundary nodes onto the geometry (no elastic solve): for looking at
+        /// the boundary placement.
+        #[arg(long)]
+        boundary_only: bool,
         /// Output file: `.vtu` (VTK Lagrange cells) or `.msh` (Gmsh MSH 4.1, high order).
         #[arg(short, long)]
         output: PathBuf,
@@ -89,6 +99,9 @@ fn run(cli: Cli) -> Result<()> {
             geometry,
             geometry_tolerance,
             boundary_nodes,
+            young,
+            poisson,
+            boundary_only,
             output,
         } => {
             if !straight && geometry.is_none() {
@@ -105,6 +118,8 @@ fn run(cli: Cli) -> Result<()> {
                     &geometry,
                     geometry_tolerance,
                     boundary_nodes,
+                    &hocurve_elastic::Material::new(young, poisson)?,
+                    boundary_only,
                 )?;
             }
             let quality =
@@ -182,14 +197,16 @@ fn read_geometry(path: &std::path::Path) -> Result<(GeometryModel, AssociationRu
     }
 }
 
-/// Associates the boundary with the geometry and moves the boundary nodes onto it.
-/// (The elastic solve that carries the boundary motion into the domain comes next.)
+/// Associates the boundary with the geometry, places the boundary nodes on it and moves the
+/// whole mesh by the elastic analogy (or only the boundary nodes).
 fn curve_boundary(
     linear: &LinearMesh,
     mesh: &mut HighOrderMesh,
     geometry_path: &std::path::Path,
     tolerance: Option<f64>,
     strategy: BoundaryNodeStrategy,
+    material: &hocurve_elastic::Material,
+    move_boundary_only: bool,
 ) -> Result<()> {
     let (geometry, rule) = read_geometry(geometry_path)?;
     let (curves, surfaces) = geometry.counts();
@@ -228,6 +245,39 @@ fn curve_boundary(
             targets.max_geometry_distance
         );
     }
+    if move_boundary_only {
+        for (&n, &x) in &targets.targets {
+            mesh.nodes[n as usize] = x;
+        }
+        return Ok(());
+    }
+    // The elastic analogy (Sect. 3.2): curved-boundary nodes move to their targets, other
+    // boundary nodes stay, and the displacement is carried into the domain.
+    let mut bc = hocurve_elastic::BoundaryConditions::default();
+    for n in hocurve_elastic::boundary_nodes(mesh)? {
+        bc.prescribed.insert(n, [0.0; 3]);
+    }
+    for (&n, &x) in &targets.targets {
+        let x0 = mesh.nodes[n as usize];
+        bc.prescribed
+            .insert(n, [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]]);
+    }
+    let solution = hocurve_elastic::solve_displacement(mesh, material, &bc, &Default::default())?;
+    println!(
+        "elasticity: {} dofs, solver {:?}, {} iterations, relative residual {:.1e} (assembly {:.2} s, solve {:.2} s)",
+        solution.dofs,
+        solution.solver_used,
+        solution.iterations,
+        solution.relative_residual,
+        solution.timings.assembly,
+        solution.timings.solve
+    );
+    for (x, u) in mesh.nodes.iter_mut().zip(&solution.displacement) {
+        for d in 0..3 {
+            x[d] += u[d];
+        }
+    }
+    // Boundary targets exactly, not up to the solver's round-off.
     for (&n, &x) in &targets.targets {
         mesh.nodes[n as usize] = x;
     }
