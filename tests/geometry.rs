@@ -3,13 +3,17 @@
 
 use std::path::PathBuf;
 
-use hocurve::geodesic::{associate_boundary, place_boundary_nodes, AssociationRule, BoundaryNodeStrategy};
+use hocurve::geodesic::{
+    associate_boundary, place_boundary_nodes, AssociationRule, BoundaryNodeStrategy,
+};
 use hocurve::mesh::HighOrderMesh;
 use hocurve::nodes::NodeFamily;
 use hocurve::nurbs::{iges::read_iges_geometry, read_geometry_json, Naca4};
 
 fn fixture(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("fixtures").join(name)
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("fixtures")
+        .join(name)
 }
 
 #[test]
@@ -49,12 +53,18 @@ fn sphere_boundary_nodes_from_iges_lie_on_the_unit_sphere() {
     let mesh = HighOrderMesh::from_linear(&linear, 3, NodeFamily::Fekete).unwrap();
     let iges = read_iges_geometry(&fixture("sphere/sphere.igs")).unwrap();
     let a = associate_boundary(&linear, &iges, AssociationRule::NameThenNearest, None).unwrap();
-    assert_eq!(a.unassociated, 0, "box faces and the sphere are all in the IGES");
+    assert_eq!(
+        a.unassociated, 0,
+        "box faces and the sphere are all in the IGES"
+    );
     let t = place_boundary_nodes(&mesh, &iges, &a, BoundaryNodeStrategy::Geodesic).unwrap();
     let sphere_group = linear.physical_group("sphere").unwrap().tag;
     let mut on_sphere = 0;
     for (facet, linear_facet) in mesh.facets.iter().zip(&linear.facets) {
-        if linear.physical_tags(2, linear_facet.entity).contains(&sphere_group) {
+        if linear
+            .physical_tags(2, linear_facet.entity)
+            .contains(&sphere_group)
+        {
             for n in &facet.nodes {
                 let x = t.targets[n];
                 assert!(((x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt() - 1.0).abs() < 1e-13);
