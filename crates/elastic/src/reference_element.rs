@@ -165,52 +165,5 @@ impl ReferenceElement {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn reference_stiffness_of_the_linear_triangle() {
-        // Φ₀ = 1 − ξ − η, Φ₁ = ξ, Φ₂ = η; area 1/2: S_ξξ = ½ [[1,−1,0],[−1,1,0],[0,0,0]],
-        // S_ξη[i][j] = ½ ∂ξΦᵢ ∂ηΦⱼ = ½ [[1,0,−1],[−1,0,1],[0,0,0]].
-        let r = ReferenceElement::new(Shape::Tri, 1, NodeFamily::Equispaced).unwrap();
-        let s = r.simplex_stiffness.as_ref().unwrap();
-        let xx = [0.5, -0.5, 0.0, -0.5, 0.5, 0.0, 0.0, 0.0, 0.0];
-        let xy = [0.5, 0.0, -0.5, -0.5, 0.0, 0.5, 0.0, 0.0, 0.0];
-        for k in 0..9 {
-            assert!((s[0][k] - xx[k]).abs() < 1e-15);
-            assert!((s[1][k] - xy[k]).abs() < 1e-15);
-            // S_ηξ = S_ξηᵀ.
-            assert!((s[2][3 * (k % 3) + k / 3] - xy[k]).abs() < 1e-15);
-        }
-    }
-
-    #[test]
-    fn reference_stiffness_rows_sum_to_zero_and_traces_match_volume_integrals() {
-        // Σⱼ Φⱼ = 1 ⇒ rows of every S_αβ sum to 0; and Σᵢⱼ ξ-weighted sums give ∫ 1:
-        // with xᵢ the nodes, Σᵢⱼ ξᵢ,α S_αα[i][j] ξⱼ,α = ∫ (∂ξ_α/∂ξ_α)² = |T|.
-        for (shape, volume) in [(Shape::Tri, 0.5), (Shape::Tet, 1.0 / 6.0)] {
-            for p in 1..=5 {
-                let r = ReferenceElement::new(shape, p, NodeFamily::Fekete).unwrap();
-                let nodes = ReferenceNodes::new(shape, p, NodeFamily::Fekete);
-                let s = r.simplex_stiffness.as_ref().unwrap();
-                let n = r.len;
-                for (ab, m) in s.iter().enumerate() {
-                    for i in 0..n {
-                        let row: f64 = m[i * n..(i + 1) * n].iter().sum();
-                        assert!(row.abs() < 1e-11, "{shape:?} p={p} S{ab} row {i}: {row}");
-                    }
-                }
-                for a in 0..r.dim {
-                    let m = &s[a * r.dim + a];
-                    let mut total = 0.0;
-                    for i in 0..n {
-                        for j in 0..n {
-                            total += nodes.points()[i][a] * m[i * n + j] * nodes.points()[j][a];
-                        }
-                    }
-                    assert!((total - volume).abs() < 1e-11, "{shape:?} p={p}: {total}");
-                }
-            }
-        }
-    }
-}
+#[path = "tests/reference_element.rs"]
+mod tests;

@@ -40,4 +40,5 @@ pub enum GeodesicError {
 }
 
 #[cfg(test)]
+#[path = "tests/lib.rs"]
 mod tests;

@@ -16,9 +16,10 @@
 //!     ],
 //!     ..Default::default()
 //! };
-//! let ho = HighOrderMesh::from_linear(&mesh, 3, NodeFamily::Equispaced).unwrap();
+//! let ho = HighOrderMesh::from_linear(&mesh, 3, NodeFamily::Equispaced)?;
 //! // V + E(p−1) + F(p−1)(p−2)/2 = 4 + 5·2 + 2·1
 //! assert_eq!(ho.nodes.len(), 16);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 mod element;

@@ -18,7 +18,7 @@
 //! assert_eq!(tet.points()[1], [1.0, 0.0, 0.0]);
 //! // Fekete nodes interpolate; the Lagrange basis is 1 at its own node.
 //! let tri = ReferenceNodes::new(Shape::Tri, 6, NodeFamily::Fekete);
-//! let basis = LagrangeBasis::new(&tri).unwrap();
+//! let basis = LagrangeBasis::new(&tri)?;
 //! let mut phi = vec![0.0; basis.len()];
 //! basis.eval(tri.points()[20], &mut phi);
 //! assert!((phi[20] - 1.0).abs() < 1e-12);
@@ -26,6 +26,7 @@
 //! let rule = QuadratureRule::new(Shape::Tri, 4);
 //! let integral: f64 = rule.points.iter().zip(&rule.weights).map(|(x, w)| w * x[0] * x[0] * x[1] * x[1]).sum();
 //! assert!((integral - 1.0 / 180.0).abs() < 1e-15);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 mod basis;

@@ -7,11 +7,12 @@
 //!
 //! ```
 //! use hocurve_nurbs::shapes;
-//! let circle = shapes::circle([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 2.0).unwrap();
+//! let circle = shapes::circle([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 2.0)?;
 //! let p = circle.point(0.3);
 //! assert!(((p[0] * p[0] + p[1] * p[1]).sqrt() - 2.0).abs() < 1e-14);
 //! let length = hocurve_nurbs::arc_length::arc_length(&circle, 0.0, 1.0);
 //! assert!((length - 4.0 * std::f64::consts::PI).abs() < 1e-12);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 pub mod arc_length;

@@ -17,13 +17,14 @@
 //!     ],
 //!     ..Default::default()
 //! };
-//! let ho = HighOrderMesh::from_linear(&mesh, 3, NodeFamily::Fekete).unwrap();
+//! let ho = HighOrderMesh::from_linear(&mesh, 3, NodeFamily::Fekete)?;
 //! let options = QualityOptions { bezier: Some(BezierOptions::default()), ..Default::default() };
-//! let quality = assess(&ho, &options).unwrap();
+//! let quality = assess(&ho, &options)?;
 //! // Straight triangles have a constant Jacobian: Ĩ = 1.
-//! assert!((quality.summary.min_scaled_jacobian.unwrap() - 1.0).abs() < 1e-12);
-//! assert_eq!(quality.validity.unwrap()[0].validity, Validity::Valid);
+//! assert!(quality.summary.min_scaled_jacobian.is_some_and(|m| (m - 1.0).abs() < 1e-12));
+//! assert_eq!(quality.validity.map(|v| v[0].validity), Some(Validity::Valid));
 //! println!("{}", quality.summary); // the text table
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 mod assessment;
@@ -34,6 +35,7 @@ mod plot;
 mod stretching;
 mod summary;
 #[cfg(test)]
+#[path = "tests/test_meshes.rs"]
 mod test_meshes;
 mod validity;
 

@@ -705,5 +705,5 @@ fn name_entities(converted: Vec<Converted<'_>>) -> Vec<GeometricEntity> {
 }
 
 #[cfg(test)]
-#[path = "convert_tests.rs"]
+#[path = "tests/convert.rs"]
 mod tests;

@@ -369,4 +369,5 @@ fn validate(
 }
 
 #[cfg(test)]
+#[path = "tests/mod_tests.rs"]
 mod tests;

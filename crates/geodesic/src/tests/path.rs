@@ -1,0 +1,162 @@
+use super::*;
+use hocurve_nurbs::inversion::closest_point_on_surface;
+use hocurve_nurbs::shapes::{cylinder, sphere};
+use hocurve_nurbs::NurbsSurface;
+
+fn param_of(s: &NurbsSurface, x: [f64; 3]) -> [f64; 2] {
+    closest_point_on_surface(s, x).param
+}
+
+fn unit(v: [f64; 3]) -> [f64; 3] {
+    let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    [v[0] / n, v[1] / n, v[2] / n]
+}
+
+fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+#[test]
+fn on_a_sphere_the_path_is_the_great_circle_arc() {
+    let s = sphere([0.0; 3], 2.0).expect("sphere");
+    let chart = SurfaceChart::new(&s);
+    // Pairs: generic, across the seam (u = 0 is the +x meridian), from the pole.
+    let pairs = [
+        (unit([1.0, 0.3, 0.2]), unit([0.2, 1.0, -0.4])),
+        (unit([0.8, -0.3, 0.1]), unit([0.9, 0.35, -0.2])),
+        ([0.0, 0.0, 1.0], unit([0.5, 0.4, 0.6])),
+        (unit([-0.3, 0.2, -0.9]), unit([0.4, -0.5, -0.7])),
+    ];
+    for (a, b) in pairs {
+        let (xa, xb) = (
+            [2.0 * a[0], 2.0 * a[1], 2.0 * a[2]],
+            [2.0 * b[0], 2.0 * b[1], 2.0 * b[2]],
+        );
+        let path = GeodesicPath::between(
+            &chart,
+            param_of(&s, xa),
+            param_of(&s, xb),
+            DEFAULT_LENGTH_TOLERANCE,
+        );
+        let exact = 2.0 * dot(a, b).clamp(-1.0, 1.0).acos();
+        assert!(
+            ((path.length() - exact) / exact).abs() < 1e-6,
+            "{} vs {exact}",
+            path.length()
+        );
+        let n = unit(cross(a, b));
+        for x in &path.points {
+            assert!(
+                dot(*x, n).abs() < 1e-6 * 2.0,
+                "off the great-circle plane: {}",
+                dot(*x, n)
+            );
+            assert!((dot(*x, *x).sqrt() - 2.0).abs() < 1e-13);
+        }
+        // Ends are the given points.
+        assert!(
+            distance(path.points[0], xa) < 1e-12
+                && distance(*path.points.last().unwrap(), xb) < 1e-12
+        );
+        // Points at fractions: on the sphere and at the right angle from a.
+        for k in 1..10 {
+            let f = k as f64 / 10.0;
+            let (_, x) = path.at_fraction(&chart, f);
+            assert!((dot(x, x).sqrt() - 2.0).abs() < 1e-13);
+            let angle = dot(unit(x), a).clamp(-1.0, 1.0).acos();
+            assert!(
+                (angle * 2.0 / exact - f).abs() < 1e-6,
+                "{f}: {}",
+                angle * 2.0 / exact
+            );
+        }
+    }
+}
+
+#[test]
+fn on_a_cylinder_the_path_is_the_helix() {
+    let (r, h, theta) = (1.5f64, 2.0f64, 1.2f64);
+    let s = cylinder([0.0; 3], [0.0, 0.0, 1.0], r, (-1.0, 3.0)).expect("cylinder");
+    let chart = SurfaceChart::new(&s);
+    let xa = [r, 0.0, 0.0];
+    let xb = [r * theta.cos(), r * theta.sin(), h];
+    let path = GeodesicPath::between(
+        &chart,
+        param_of(&s, xa),
+        param_of(&s, xb),
+        DEFAULT_LENGTH_TOLERANCE,
+    );
+    let exact = (r * theta).hypot(h);
+    assert!(((path.length() - exact) / exact).abs() < 1e-6);
+    for x in &path.points {
+        let angle = x[1].atan2(x[0]);
+        assert!(
+            (x[2] / h - angle / theta).abs() < 1e-6,
+            "not on the helix: {x:?}"
+        );
+        assert!((x[0].hypot(x[1]) - r).abs() < 1e-13);
+    }
+}
+
+#[test]
+fn on_a_plane_the_path_is_the_straight_segment() {
+    // A bilinear patch of the plane z = 0.5x + 0.25y with a non-uniform parametrisation.
+    let s = NurbsSurface::new(
+        1,
+        2,
+        vec![0.0, 0.0, 1.0, 1.0],
+        vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+        vec![
+            [0.0, 0.0, 0.0],
+            [0.0, 0.2, 0.05],
+            [0.0, 2.0, 0.5],
+            [3.0, 0.0, 1.5],
+            [3.0, 0.5, 1.625],
+            [3.0, 2.0, 2.0],
+        ],
+        vec![1.0; 6],
+    )
+    .expect("patch");
+    let chart = SurfaceChart::new(&s);
+    let xa = [0.2, 0.3, 0.175];
+    let xb = [2.5, 1.7, 1.675];
+    let path = GeodesicPath::between(
+        &chart,
+        param_of(&s, xa),
+        param_of(&s, xb),
+        DEFAULT_LENGTH_TOLERANCE,
+    );
+    let exact = distance(xa, xb);
+    assert!(((path.length() - exact) / exact).abs() < 1e-12);
+    for k in 0..=8 {
+        let f = k as f64 / 8.0;
+        let (_, x) = path.at_fraction(&chart, f);
+        let straight = [
+            xa[0] + f * (xb[0] - xa[0]),
+            xa[1] + f * (xb[1] - xa[1]),
+            xa[2] + f * (xb[2] - xa[2]),
+        ];
+        assert!(distance(x, straight) < 1e-9, "{f}: {x:?} vs {straight:?}");
+    }
+}
+
+#[test]
+fn brent_finds_the_minimum_of_a_parabola_and_of_a_skewed_function() {
+    let t = brent_minimum(|t| (t - 0.123).powi(2) + 1.0, -0.5, 0.5, 1e-12);
+    assert!((t - 0.123).abs() < 1e-9);
+    let t = brent_minimum(
+        |t| (t + 0.3).cosh() + 0.1 * (t + 0.3).powi(4),
+        -0.5,
+        0.5,
+        1e-12,
+    );
+    assert!((t + 0.3).abs() < 1e-6);
+}

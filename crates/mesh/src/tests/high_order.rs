@@ -1,0 +1,305 @@
+use super::*;
+use crate::Element;
+use std::collections::HashSet;
+
+/// Deterministic pseudo-random permutation of 0..n (a tiny LCG; no dependency needed).
+fn permutation(n: usize, seed: u64) -> Vec<u32> {
+    let mut state = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    let mut v: Vec<u32> = (0..n as u32).collect();
+    for i in (1..n).rev() {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let j = (state >> 33) as usize % (i + 1);
+        v.swap(i, j);
+    }
+    v
+}
+
+/// Builds the mesh under `relabelings` renumberings of its vertices and checks, for every
+/// p: the node count formula, that every local node sits where the cell's own straight
+/// map puts it, and that no two global nodes coincide (no duplicated shared nodes).
+/// Returns the face orientations seen (as permutations local → canonical).
+fn check_sharing(
+    dim: usize,
+    vertices: &[[f64; 3]],
+    cells: &[(ElementType, Vec<u32>)],
+    relabelings: u64,
+) -> HashSet<Vec<usize>> {
+    let mut orientations = HashSet::new();
+    for seed in 0..relabelings {
+        let perm = permutation(vertices.len(), seed);
+        let mut relabeled = vec![[0.0; 3]; vertices.len()];
+        for (old, &new) in perm.iter().enumerate() {
+            relabeled[new as usize] = vertices[old];
+        }
+        let mesh = LinearMesh {
+            dim,
+            vertices: relabeled,
+            cells: cells
+                .iter()
+                .map(|(kind, v)| Element {
+                    kind: *kind,
+                    vertices: v.iter().map(|&i| perm[i as usize]).collect(),
+                    entity: 1,
+                })
+                .collect(),
+            ..Default::default()
+        };
+        for p in 1..=6 {
+            let ho = HighOrderMesh::from_linear(&mesh, p, NodeFamily::Equispaced).unwrap();
+            assert_eq!(ho.nodes.len(), ho.expected_node_count());
+            for (cell, lin) in ho.cells.iter().zip(&mesh.cells) {
+                let shape = cell.kind.shape().unwrap();
+                let reference = ReferenceNodes::new(shape, p, NodeFamily::Equispaced);
+                let corners: Vec<[f64; 3]> = lin
+                    .vertices
+                    .iter()
+                    .map(|&v| mesh.vertices[v as usize])
+                    .collect();
+                for (xi, &id) in reference.points().iter().zip(&cell.nodes) {
+                    let want = straight_map(shape, &corners, *xi);
+                    let got = ho.nodes[id as usize];
+                    for d in 0..3 {
+                        assert!((want[d] - got[d]).abs() < 1e-13, "{shape:?} p={p}");
+                    }
+                }
+            }
+            // No two nodes at the same place: shared nodes were not duplicated.
+            let mut seen = HashSet::new();
+            for x in &ho.nodes {
+                let key = x.map(|c| (c * 1e9).round() as i64);
+                assert!(seen.insert(key), "duplicate node at {x:?} (p={p})");
+            }
+            if p == 2 {
+                for (c, lin) in mesh.cells.iter().enumerate() {
+                    let shape = lin.kind.shape().unwrap();
+                    for (f, face) in shape.faces().iter().enumerate() {
+                        let g = ho.topology.cell_faces.row(c)[f] as usize;
+                        if ho.topology.facet_cells[g][1] == crate::NO_CELL {
+                            continue;
+                        }
+                        let canon = ho.topology.faces.row(g);
+                        let sigma = face
+                            .iter()
+                            .map(|&i| canon.iter().position(|&v| v == lin.vertices[i]).unwrap())
+                            .collect();
+                        orientations.insert(sigma);
+                    }
+                }
+            }
+        }
+    }
+    orientations
+}
+
+#[test]
+fn two_tets_share_face_nodes_in_all_six_orientations() {
+    let vertices = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.2, 0.3, 1.0],
+        [0.4, 0.3, -0.9],
+    ];
+    let cells = vec![
+        (ElementType::Tet, vec![0, 1, 2, 3]),
+        (ElementType::Tet, vec![0, 2, 1, 4]),
+    ];
+    let seen = check_sharing(3, &vertices, &cells, 60);
+    assert_eq!(seen.len(), 6, "orientations seen: {seen:?}");
+}
+
+#[test]
+fn two_hexes_share_quad_face_nodes_in_all_eight_orientations() {
+    let mut vertices = Vec::new();
+    for z in 0..2 {
+        for y in 0..2 {
+            for x in 0..3 {
+                // Slightly distorted so the bilinear faces are not parallelograms.
+                let w = 0.1 * (x * y + z) as f64;
+                vertices.push([x as f64 + w, y as f64, z as f64 + 0.05 * x as f64]);
+            }
+        }
+    }
+    let id = |x: u32, y: u32, z: u32| x + 3 * y + 6 * z;
+    let hex = |x0: u32| {
+        vec![
+            id(x0, 0, 0),
+            id(x0 + 1, 0, 0),
+            id(x0 + 1, 1, 0),
+            id(x0, 1, 0),
+            id(x0, 0, 1),
+            id(x0 + 1, 0, 1),
+            id(x0 + 1, 1, 1),
+            id(x0, 1, 1),
+        ]
+    };
+    let cells = vec![(ElementType::Hex, hex(0)), (ElementType::Hex, hex(1))];
+    let seen = check_sharing(3, &vertices, &cells, 80);
+    assert_eq!(seen.len(), 8, "orientations seen: {seen:?}");
+}
+
+#[test]
+fn prisms_share_triangle_and_quad_faces_and_hex_prism_hybrids_agree() {
+    // Two prisms stacked (shared triangle), a third beside (shared quad), a hex beside.
+    let vertices = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [0.0, 0.0, 1.0],
+        [1.0, 0.0, 1.1],
+        [0.0, 1.0, 1.0],
+        [0.0, 0.0, 2.0],
+        [1.0, 0.0, 2.0],
+        [0.0, 1.0, 2.1],
+        [1.0, 1.0, 0.0],
+        [1.0, 1.0, 1.0],
+        [0.0, -1.0, 0.0],
+        [1.0, -1.0, 0.0],
+        [0.0, -1.0, 1.0],
+        [1.0, -1.0, 1.0],
+    ];
+    let cells = vec![
+        (ElementType::Prism, vec![0, 1, 2, 3, 4, 5]),
+        (ElementType::Prism, vec![3, 4, 5, 6, 7, 8]),
+        (ElementType::Prism, vec![1, 9, 2, 4, 10, 5]),
+        (ElementType::Hex, vec![11, 12, 1, 0, 13, 14, 4, 3]),
+    ];
+    let seen = check_sharing(3, &vertices, &cells, 40);
+    assert!(seen.iter().any(|s| s.len() == 3) && seen.iter().any(|s| s.len() == 4));
+}
+
+#[test]
+fn triangles_and_quads_share_edge_nodes_in_2d() {
+    let vertices = [
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [1.0, 1.0, 0.0],
+        [0.0, 1.0, 0.0],
+        [2.0, 0.5, 0.0],
+    ];
+    let cells = vec![
+        (ElementType::Quad, vec![0, 1, 2, 3]),
+        (ElementType::Tri, vec![1, 4, 2]),
+    ];
+    check_sharing(2, &vertices, &cells, 20);
+}
+
+#[test]
+fn resampling_between_families_keeps_straight_cells_straight() {
+    // A distorted hex and a tet: the straight map is reproduced by every family, so
+    // resampling to another family equals building that family directly.
+    let mesh = LinearMesh {
+        dim: 3,
+        vertices: vec![
+            [0.0, 0.0, 0.0],
+            [1.2, 0.0, 0.1],
+            [1.0, 1.1, 0.0],
+            [0.0, 1.0, 0.2],
+            [0.1, 0.0, 1.0],
+            [1.0, 0.2, 1.1],
+            [1.1, 1.0, 1.0],
+            [0.0, 1.0, 0.9],
+            [0.5, 0.5, -1.0],
+        ],
+        cells: vec![
+            Element {
+                kind: ElementType::Hex,
+                vertices: (0..8).collect(),
+                entity: 1,
+            },
+            Element {
+                kind: ElementType::Tet,
+                vertices: vec![0, 2, 1, 8],
+                entity: 1,
+            },
+        ],
+        ..Default::default()
+    };
+    for p in 1..=5 {
+        for from in NodeFamily::ALL {
+            let a = HighOrderMesh::from_linear(&mesh, p, from).unwrap();
+            for to in NodeFamily::ALL {
+                let b = a.resampled(to).unwrap();
+                let direct = HighOrderMesh::from_linear(&mesh, p, to).unwrap();
+                assert_eq!(b.family, to);
+                for (x, y) in b.nodes.iter().zip(&direct.nodes) {
+                    assert!(
+                        (0..3).all(|d| (x[d] - y[d]).abs() < 1e-12),
+                        "{from}->{to} p={p}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn facets_get_the_nodes_of_their_face() {
+    let mesh = LinearMesh {
+        dim: 3,
+        vertices: vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        cells: vec![Element {
+            kind: ElementType::Tet,
+            vertices: vec![0, 1, 2, 3],
+            entity: 1,
+        }],
+        facets: vec![Element {
+            kind: ElementType::Tri,
+            vertices: vec![3, 1, 2],
+            entity: 7,
+        }],
+        ..Default::default()
+    };
+    for p in 1..=5 {
+        let ho = HighOrderMesh::from_linear(&mesh, p, NodeFamily::Equispaced).unwrap();
+        let facet = &ho.facets[0];
+        let reference = ReferenceNodes::new(Shape::Tri, p, NodeFamily::Equispaced);
+        let corners = [mesh.vertices[3], mesh.vertices[1], mesh.vertices[2]];
+        for (xi, &id) in reference.points().iter().zip(&facet.nodes) {
+            let want = straight_map(Shape::Tri, &corners, *xi);
+            let got = ho.nodes[id as usize];
+            assert!((0..3).all(|d| (want[d] - got[d]).abs() < 1e-14));
+        }
+    }
+    let mut bad = mesh.clone();
+    bad.facets[0].vertices = vec![0, 1, 2];
+    bad.vertices.push([5.0, 5.0, 5.0]);
+    bad.facets[0].vertices[2] = 4;
+    let err = HighOrderMesh::from_linear(&bad, 2, NodeFamily::Equispaced).unwrap_err();
+    assert!(
+        matches!(err, MeshError::FacetNotInMesh { index: 0, .. }),
+        "{err}"
+    );
+}
+
+#[test]
+fn pyramids_and_bad_vertex_ids_are_clear_errors() {
+    let mut mesh = LinearMesh {
+        dim: 3,
+        vertices: vec![[0.0; 3]; 5],
+        cells: vec![Element {
+            kind: ElementType::Pyramid,
+            vertices: vec![0, 1, 2, 3, 4],
+            entity: 1,
+        }],
+        ..Default::default()
+    };
+    let err = HighOrderMesh::from_linear(&mesh, 2, NodeFamily::Equispaced).unwrap_err();
+    assert!(err.to_string().contains("pyramid"), "{err}");
+    mesh.cells[0] = Element {
+        kind: ElementType::Tet,
+        vertices: vec![0, 1, 2, 9],
+        entity: 1,
+    };
+    let err = HighOrderMesh::from_linear(&mesh, 2, NodeFamily::Equispaced).unwrap_err();
+    assert!(err.to_string().contains("vertex 9"), "{err}");
+}

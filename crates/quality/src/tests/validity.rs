@@ -1,0 +1,214 @@
+use super::*;
+use crate::jacobian::jacobian_determinants;
+use crate::test_meshes::{box_tets, hash01, single_element};
+use crate::{scaled_jacobian, Sampling};
+use hocurve_mesh::ElementType;
+
+const ALL_TYPES: [ElementType; 5] = [
+    ElementType::Tri,
+    ElementType::Quad,
+    ElementType::Tet,
+    ElementType::Hex,
+    ElementType::Prism,
+];
+
+fn check_one(mesh: &HighOrderMesh, max_depth: usize) -> ValidityCheck {
+    check_validity(mesh, &BezierOptions { max_depth }).unwrap()[0]
+}
+
+/// Deterministic random points inside the reference element.
+fn random_points(shape: Shape, count: usize) -> Vec<[f64; 3]> {
+    let mut out = Vec::new();
+    let mut seed = 7;
+    while out.len() < count {
+        let mut x = [0.0; 3];
+        for c in x.iter_mut().take(shape.dim()) {
+            *c = hash01(seed);
+            seed += 1;
+        }
+        let inside = match shape {
+            Shape::Tri | Shape::Prism => x[0] + x[1] <= 1.0,
+            Shape::Tet => x[0] + x[1] + x[2] <= 1.0,
+            _ => true,
+        };
+        if inside {
+            out.push(x);
+        }
+    }
+    out
+}
+
+#[test]
+fn bezier_coefficients_reproduce_det_j_at_random_points() {
+    // Randomly curved elements: every node moved by up to ±4 % of the element size. If a
+    // degree of jacobian_degree were too low, the Bernstein polynomial could not match.
+    for kind in ALL_TYPES {
+        let shape = kind.shape().unwrap();
+        for p in 1..=3 {
+            let mut mesh = single_element(kind, p, |x| x);
+            for (i, x) in mesh.nodes.iter_mut().enumerate() {
+                for d in 0..shape.dim() {
+                    x[d] += 0.08 * (hash01(97 * i as u64 + d as u64) - 0.5);
+                }
+            }
+            let bezier = JacobianBezier::new(shape, p, mesh.family).unwrap();
+            let coords: Vec<[f64; 3]> = mesh.cells[0]
+                .nodes
+                .iter()
+                .map(|&n| mesh.nodes[n as usize])
+                .collect();
+            let c = bezier.coefficients(&coords);
+            let points = random_points(shape, 25);
+            let want = jacobian_determinants(&mesh, 0, &points).unwrap();
+            for (x, w) in points.iter().zip(&want) {
+                let got = bezier.space().eval(&c, *x);
+                assert!(
+                    (got - w).abs() < 1e-11,
+                    "{kind} p={p} at {x:?}: {got} vs {w}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn curved_valid_elements_are_certified_with_bounds_around_the_true_value() {
+    // det J = 1 + 2εξ on every shape (see the jacobian tests): Ĩ = 1/(1 + 2ε).
+    let eps = 0.4;
+    let exact = 1.0 / (1.0 + 2.0 * eps);
+    for kind in ALL_TYPES {
+        for p in 2..=3 {
+            let mesh = single_element(kind, p, |x| [x[0] + eps * x[0] * x[0], x[1], x[2]]);
+            let check = check_one(&mesh, 4);
+            assert_eq!(check.validity, Validity::Valid, "{kind} p={p}");
+            // One region suffices: a positive polynomial with positive coefficients.
+            assert_eq!(check.regions, 1, "{kind} p={p}");
+            let (lo, hi) = (
+                check.scaled_jacobian_lower_bound,
+                check.scaled_jacobian_upper_bound,
+            );
+            assert!(
+                lo <= exact + 1e-12 && exact <= hi + 1e-12,
+                "{kind} p={p}: {lo} {hi}"
+            );
+            // Lattice sampling includes the vertices, where the extremes are: tight.
+            // Up to the rounding margin, which ‖M⁻¹‖∞ amplifies (≈ 10⁻⁷ relative for
+            // hexahedra at p = 3, see the module doc).
+            assert!(
+                (lo - exact).abs() < 1e-6 && (hi - exact).abs() < 1e-12,
+                "{check:?}"
+            );
+            assert!((check.min_jacobian_lower_bound - 1.0).abs() < 1e-6);
+        }
+    }
+}
+
+#[test]
+fn inversion_at_a_vertex_missed_by_quadrature_is_invalid() {
+    // P2 triangle whose edge-0 mid node slides by a along the edge: x = ξ + 4aξ(1−ξ−η),
+    // y = η, det J = 1 + 4a(1 − 2ξ − η): −0.2 at vertex (1, 0) for a = 0.3, positive at
+    // every interior quadrature point.
+    let a = 0.3;
+    let mesh = single_element(ElementType::Tri, 2, |x| {
+        [x[0] + 4.0 * a * x[0] * (1.0 - x[0] - x[1]), x[1], 0.0]
+    });
+    let sampled = scaled_jacobian(&mesh, Sampling::Quadrature).unwrap()[0];
+    assert!(
+        sampled > 0.0,
+        "the quadrature points should miss it: {sampled}"
+    );
+    let check = check_one(&mesh, 4);
+    assert_eq!(check.validity, Validity::Invalid);
+    let exact = (1.0 - 4.0 * a) / (1.0 + 4.0 * a);
+    assert!(check.scaled_jacobian_lower_bound <= exact + 1e-12);
+    assert!(check.scaled_jacobian_upper_bound >= exact - 1e-12);
+    assert!(check.scaled_jacobian_upper_bound < 0.0);
+}
+
+/// x = Aξ + (B/3)(ξ − ½)³, y = η (z = ζ): det J = A + B(ξ − ½)², negative only for
+/// |ξ − ½| < √(−A/B) = 0.08 (with A = −0.0256, B = 4) — between the Gauss points
+/// (nearest 0.33, 0.67 at p = 3), the equispaced nodes (1/3, 2/3) and, for the
+/// quadrilateral, the degree-5 Bernstein lattice (0.4, 0.6). The hexahedron's degree-8
+/// lattice has ξ = ½ and finds it at once.
+fn strip_fold(x: [f64; 3]) -> [f64; 3] {
+    let (a, b) = (-0.0256, 4.0);
+    [a * x[0] + b / 3.0 * (x[0] - 0.5).powi(3), x[1], x[2]]
+}
+
+#[test]
+fn inversion_strictly_between_all_sample_points_is_never_called_valid() {
+    for kind in [ElementType::Quad, ElementType::Hex] {
+        let mesh = single_element(kind, 3, strip_fold);
+        for sampling in [Sampling::Quadrature, Sampling::Nodes, Sampling::Both] {
+            let sampled = scaled_jacobian(&mesh, sampling).unwrap()[0];
+            assert!(sampled > 0.0, "{kind} {sampling:?}: {sampled}");
+        }
+        let unrefined = check_one(&mesh, 0);
+        assert_ne!(unrefined.validity, Validity::Valid, "{kind}");
+        let check = check_one(&mesh, 4);
+        assert_eq!(check.validity, Validity::Invalid, "{kind}");
+        if kind == ElementType::Quad {
+            // Not decided on the whole element; one halving puts a lattice point at
+            // ξ = ½ where det J = A < 0.
+            assert_eq!(unrefined.validity, Validity::Undecided);
+            assert!(check.regions > 1, "{check:?}");
+        }
+        let exact = -0.0256 / (-0.0256 + 1.0);
+        assert!(
+            check.scaled_jacobian_lower_bound <= exact,
+            "{kind}: {check:?}"
+        );
+        assert!(
+            check.scaled_jacobian_upper_bound >= exact,
+            "{kind}: {check:?}"
+        );
+    }
+}
+
+#[test]
+fn jacobian_touching_zero_is_undecided() {
+    // det J = 4(ξ − ½)² ≥ 0 with a zero on the plane ξ = ½: neither certificate applies.
+    for kind in [ElementType::Quad, ElementType::Prism] {
+        let mesh = single_element(kind, 3, |x| [4.0 / 3.0 * (x[0] - 0.5).powi(3), x[1], x[2]]);
+        let check = check_one(&mesh, 2);
+        assert_eq!(check.validity, Validity::Undecided, "{kind}");
+        assert!(check.min_jacobian_lower_bound <= 0.0);
+        assert!(check.regions > 1);
+    }
+}
+
+#[test]
+fn straight_meshes_are_valid_and_the_check_is_deterministic() {
+    let linear = box_tets(2);
+    let mut mesh =
+        HighOrderMesh::from_linear(&linear, 3, hocurve_nodes::NodeFamily::Fekete).unwrap();
+    let checks = check_validity(&mesh, &BezierOptions::default()).unwrap();
+    assert!(checks
+        .iter()
+        .all(|c| c.validity == Validity::Valid && c.regions == 1));
+    assert!(checks
+        .iter()
+        .all(|c| (c.scaled_jacobian_lower_bound - 1.0).abs() < 1e-9));
+    for (i, x) in mesh.nodes.iter_mut().enumerate() {
+        for d in 0..3 {
+            x[d] += 0.01 * (hash01(5 * i as u64 + d as u64) - 0.5);
+        }
+    }
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| check_validity(&mesh, &BezierOptions::default()).unwrap())
+    };
+    let one = run(1);
+    assert_eq!(one, run(2));
+    // The certified lower bound never exceeds the sampled scaled Jacobian.
+    let sampled = scaled_jacobian(&mesh, Sampling::Both).unwrap();
+    for (c, s) in one.iter().zip(&sampled) {
+        assert!(c.scaled_jacobian_lower_bound <= s + 1e-12);
+        if c.validity == Validity::Valid {
+            assert!(c.scaled_jacobian_lower_bound > 0.0);
+        }
+    }
+}
