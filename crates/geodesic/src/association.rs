@@ -20,6 +20,7 @@ use hocurve_mesh::LinearMesh;
 use hocurve_nurbs::GeometryModel;
 use rayon::prelude::*;
 
+use crate::path::distance;
 use crate::GeodesicError;
 
 /// How facets find their entity.
@@ -242,28 +243,33 @@ pub fn associate_boundary(
 
 /// The point on all of `entities` nearest `x`: the projection for one entity; alternating
 /// projections for several (they converge linearly, fast for transversal intersections).
-fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [f64; 3] {
-    let project = |e: usize, y: [f64; 3]| geometry.entities[e].closest_point(y).point;
+pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [f64; 3] {
     match entities {
         [] => x,
-        [e] => project(*e, x),
-        _ => {
-            let size = geometry.size().max(f64::MIN_POSITIVE);
-            let mut y = x;
-            for _ in 0..200 {
-                let before = y;
-                for &e in entities {
-                    y = project(e, y);
-                }
-                if distance(before, y) <= 1e-14 * size {
-                    break;
-                }
-            }
-            y
-        }
+        [e] => geometry.entities[*e].closest_point(x).point,
+        _ => snap_onto_with(geometry, entities, x, |y| y),
     }
 }
 
-fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
+/// Alternating projections onto `first` (a closure) and then each of `entities`, until the
+/// point settles to round-off.
+pub(crate) fn snap_onto_with(
+    geometry: &GeometryModel,
+    entities: &[usize],
+    x: [f64; 3],
+    first: impl Fn([f64; 3]) -> [f64; 3],
+) -> [f64; 3] {
+    let size = geometry.size().max(f64::MIN_POSITIVE);
+    let mut y = x;
+    for _ in 0..200 {
+        let before = y;
+        y = first(y);
+        for &e in entities {
+            y = geometry.entities[e].closest_point(y).point;
+        }
+        if distance(before, y) <= 1e-14 * size {
+            break;
+        }
+    }
+    y
 }

@@ -13,6 +13,7 @@ use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface}
 use hocurve_nurbs::{EntityGeometry, GeometryModel, NurbsCurve};
 use rayon::prelude::*;
 
+use crate::association::{snap_onto, snap_onto_with};
 use crate::chart::SurfaceChart;
 use crate::path::{distance, GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
 use crate::{BoundaryAssociation, GeodesicError};
@@ -338,11 +339,9 @@ impl EdgeCarrier<'_> {
                 if also_on.is_empty() {
                     (uv, x)
                 } else {
-                    let mut all = vec![];
-                    all.extend(also_on.iter().copied());
                     (
                         uv,
-                        snap_onto_with(geometry, &all, x, |y| chart.project_near(y, uv).1),
+                        snap_onto_with(geometry, also_on, x, |y| chart.project_near(y, uv).1),
                     )
                 }
             }
@@ -528,33 +527,6 @@ fn project(geometry: &GeometryModel, entity: usize, x: [f64; 3], guess: [f64; 2]
         EntityGeometry::Surface(s) => SurfaceChart::new(s).project_near(x, guess).1,
         EntityGeometry::Curve(c) => closest_point_on_curve(c, x).point,
     }
-}
-
-/// The point on all `entities` nearest `x` (alternating projections).
-fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [f64; 3] {
-    snap_onto_with(geometry, entities, x, |y| y)
-}
-
-/// Alternating projections onto `first` (a closure) and `entities`, until the point settles.
-fn snap_onto_with(
-    geometry: &GeometryModel,
-    entities: &[usize],
-    x: [f64; 3],
-    first: impl Fn([f64; 3]) -> [f64; 3],
-) -> [f64; 3] {
-    let size = geometry.size().max(f64::MIN_POSITIVE);
-    let mut y = x;
-    for _ in 0..200 {
-        let before = y;
-        y = first(y);
-        for &e in entities {
-            y = geometry.entities[e].closest_point(y).point;
-        }
-        if distance(before, y) <= 1e-14 * size {
-            break;
-        }
-    }
-    y
 }
 
 /// Largest distance of a target from the entities it should lie on.

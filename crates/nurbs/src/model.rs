@@ -3,7 +3,6 @@
 
 use crate::inversion::{closest_point_on_curve, closest_point_on_surface};
 use crate::shapes::{AnalyticShape, ClosestPoint};
-use crate::vec3;
 use crate::{NurbsCurve, NurbsSurface};
 
 /// The carrier of a geometric entity: a curve (2D boundaries, 3D feature curves) or a surface.
@@ -133,11 +132,6 @@ impl GeometryModel {
     /// Model size: the largest entity size (for relative tolerances).
     pub fn size(&self) -> f64 {
         self.entities.iter().map(|e| e.size()).fold(0.0, f64::max)
-    }
-
-    /// Distance between two points (re-exported for callers without a vector type).
-    pub fn distance_between(a: [f64; 3], b: [f64; 3]) -> f64 {
-        vec3::distance(a, b)
     }
 }
 

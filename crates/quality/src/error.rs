@@ -96,12 +96,7 @@ pub enum QualityError {
         /// What the plotting library said.
         message: String,
     },
-    /// Writing a file failed.
-    #[error("could not write {path}: {source}")]
-    Io {
-        /// Output file.
-        path: PathBuf,
-        /// The operating system's error.
-        source: std::io::Error,
-    },
+    /// Writing a file failed (the error names the file).
+    #[error(transparent)]
+    Io(#[from] hocurve_io::IoError),
 }

@@ -93,32 +93,17 @@ pub fn histogram_svg(histogram: &Histogram, title: &str, x_label: &str) -> Resul
     Ok(svg)
 }
 
-/// Writes `bytes` to a temporary file beside `path`, then renames it over `path`, so that a
-/// failure never leaves a truncated plot.
+/// Writes `bytes` through a temporary file renamed over `path`, so that a failure never
+/// leaves a truncated plot.
 fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), QualityError> {
-    let io = |source| QualityError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
-    let dir = match path.parent() {
-        Some(d) if !d.as_os_str().is_empty() => d.to_path_buf(),
-        _ => std::path::PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "plot.svg".into());
-    let tmp = dir.join(format!(".{name}.tmp{}", std::process::id()));
-    let result = (|| {
-        let mut file = std::fs::File::create(&tmp).map_err(io)?;
-        file.write_all(bytes).map_err(io)?;
-        file.sync_all().map_err(io)?;
-        std::fs::rename(&tmp, path).map_err(io)
-    })();
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result
+    hocurve_io::write_atomically(path, |w| {
+        w.write_all(bytes)
+            .map_err(|source| hocurve_io::IoError::Os {
+                path: path.to_path_buf(),
+                source,
+            })
+    })?;
+    Ok(())
 }
 
 #[cfg(test)]

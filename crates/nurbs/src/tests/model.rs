@@ -1,5 +1,6 @@
 use super::*;
 use crate::shapes::sphere;
+use crate::vec3;
 
 #[test]
 fn sphere_entity_projects_exactly_and_inverts_to_its_parameter() {
