@@ -246,7 +246,7 @@ pub fn associate_boundary(
 pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [f64; 3] {
     match entities {
         [] => x,
-        [e] => geometry.entities[*e].closest_point(x).point,
+        [e] => geometry.entities[*e].nearest_point(x),
         _ => snap_onto_with(geometry, entities, x, |y| y),
     }
 }
@@ -265,7 +265,7 @@ pub(crate) fn snap_onto_with(
         let before = y;
         y = first(y);
         for &e in entities {
-            y = geometry.entities[e].closest_point(y).point;
+            y = geometry.entities[e].nearest_point(y);
         }
         if distance(before, y) <= 1e-14 * size {
             break;

@@ -56,21 +56,17 @@ impl GeodesicPath {
             fine_points.extend(points.last());
             params = fine_params;
             points = fine_points;
-            // Correct the points from their new neighbours (Fig. 3c): old points first, then new.
-            for parity in [0] {
-                for i in 1..params.len() - 1 {
-                    if i % 2 == parity {
-                        let (m, x) = bisector_minimum(
-                            chart,
-                            params[i - 1],
-                            params[i + 1],
-                            points[i - 1],
-                            points[i + 1],
-                        );
-                        params[i] = m;
-                        points[i] = x;
-                    }
-                }
+            // Correct the old interior points (even indices) from their new neighbours (Fig. 3c).
+            for i in (2..params.len() - 1).step_by(2) {
+                let (m, x) = bisector_minimum(
+                    chart,
+                    params[i - 1],
+                    params[i + 1],
+                    points[i - 1],
+                    points[i + 1],
+                );
+                params[i] = m;
+                points[i] = x;
             }
             let new_length = polyline_length(&points);
             let segments = params.len() - 1;

@@ -80,6 +80,15 @@ impl GeometricEntity {
         }
     }
 
+    /// The point of the entity nearest `x`, without its parameter: in closed form where the
+    /// entity has one (no point inversion then).
+    pub fn nearest_point(&self, x: [f64; 3]) -> [f64; 3] {
+        match &self.analytic {
+            Some(shape) => shape.closest_point(x).point,
+            None => self.closest_point(x).point,
+        }
+    }
+
     /// The distance from `x` to the entity (closed form where available).
     pub fn distance(&self, x: [f64; 3]) -> f64 {
         match &self.analytic {
