@@ -3,9 +3,12 @@
 //! This facade re-exports the workspace crates so that one dependency gives them all:
 //! reference elements ([`nodes`]), the mesh model ([`mesh`]), file formats ([`io`]),
 //! geometry ([`nurbs`]), boundary nodes ([`geodesic`]), elasticity ([`elastic`]) and
-//! quality ([`quality`]).
+//! quality ([`quality`]). [`pipeline::curve_mesh`] runs the whole method on a mesh and a
+//! geometry; [`demo::Demo`] holds the bundled example cases.
 
+pub mod demo;
 pub mod interpolation;
+pub mod pipeline;
 
 pub use hocurve_elastic as elastic;
 pub use hocurve_geodesic as geodesic;

@@ -1,20 +1,23 @@
 //! The `hocurve` command line: a thin layer over the hocurve crates that parses arguments,
-//! runs the pipeline and prints a summary. Every error ends the program with exit code 1
-//! and one line on stderr.
+//! runs the pipeline ([`hocurve::pipeline::curve_mesh`]) and prints a summary. Every error
+//! ends the program with exit code 1 and one line on stderr.
 
-use std::path::PathBuf;
+use std::io::{IsTerminal, Write};
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Context, Result};
-use clap::{Parser, Subcommand};
-use hocurve_geodesic::{
-    associate_boundary, place_boundary_nodes, AssociationRule, BoundaryNodeStrategy,
-};
-use hocurve_mesh::HighOrderMesh;
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use hocurve::demo::Demo;
+use hocurve::pipeline::{curve_mesh, CurveOptions, CurvedMesh, Geometry, Step};
+use hocurve_elastic::{Material, SolverKind};
+use hocurve_geodesic::{AssociationRule, BoundaryNodeStrategy};
+use hocurve_io::DataArray;
 use hocurve_mesh::LinearMesh;
 use hocurve_nodes::NodeFamily;
 use hocurve_nurbs::GeometryModel;
+use hocurve_quality::{MeshQuality, QualitySummary, Sampling};
 
 /// Curved high-order meshes of arbitrary order from straight-sided meshes.
 #[derive(Parser)]
@@ -29,19 +32,15 @@ enum Command {
     /// Turn a linear mesh into an order-P mesh and write it (.vtu for ParaView, .msh for Gmsh).
     ///
     /// With `--geometry`, boundary facets are associated with the geometry's curves/surfaces
-    /// (by physical-group name for JSON, by proximity for IGES) and their high-order nodes
-    /// are placed on it (arc length, geodesics). `--straight` keeps every element straight.
+    /// (by physical-group name for JSON, by proximity for IGES), their high-order nodes are
+    /// placed on it (arc length, geodesics) and the displacement is carried into the domain
+    /// by linear elasticity. `--straight` keeps every element straight.
     Curve {
         /// Linear input mesh (Gmsh MSH 4.1 or 2.2, ASCII or binary).
         mesh: PathBuf,
         /// Polynomial order P of the output mesh (1 = linear).
         #[arg(short = 'p', long, value_parser = clap::value_parser!(u32).range(1..=20))]
         order: u32,
-        /// Nodal distribution on the reference elements: fekete, gll, warp-blend or
-        /// equispaced. Output files always hold equispaced nodes (what VTK and Gmsh assume);
-        /// the distribution decides where the mesh is sampled and, later, curved.
-        #[arg(long, default_value = "fekete")]
-        nodes: NodeFamily,
         /// Keep the elements straight-sided (no geometry, no curving).
         #[arg(long, conflicts_with = "geometry")]
         straight: bool,
@@ -53,29 +52,119 @@ enum Command {
         /// default 1e-4 × the mesh's bounding-box diagonal. Facets farther away stay straight.
         #[arg(long)]
         geometry_tolerance: Option<f64>,
-        /// Where boundary nodes go: geodesic (the paper's arc-length/geodesic placement) or
-        /// projection (closest point of the straight node; the baseline).
-        #[arg(long, default_value = "geodesic")]
-        boundary_nodes: BoundaryNodeStrategy,
-        /// Young's modulus E of the elastic analogy.
-        #[arg(long, default_value_t = 10.0)]
-        young: f64,
-        /// Poisson's ratio ν of the elastic analogy (in (−1, 0.5)).
-        #[arg(long, default_value_t = 0.4)]
-        poisson: f64,
-        /// Move only the boundary nodes onto the geometry (no elastic solve): for looking at
-        /// the boundary placement.
+        #[command(flatten)]
+        method: MethodArgs,
+        #[command(flatten)]
+        output: OutputArgs,
+    },
+    /// Curve a bundled example (sphere: p = 4, naca0012: p = 5) and print the summary.
+    ///
+    /// The meshes and geometries are compiled into the program, so this works anywhere.
+    Demo {
+        /// Which example: sphere or naca0012.
+        #[arg(default_value = "sphere")]
+        name: Demo,
+        /// Order (default: 4 for the sphere, 5 for the NACA0012 airfoil).
+        #[arg(short = 'p', long, value_parser = clap::value_parser!(u32).range(1..=20))]
+        order: Option<u32>,
+        #[command(flatten)]
+        method: MethodArgs,
+        #[command(flatten)]
+        output: OutputArgs,
+    },
+    /// Measure a high-order mesh (.msh from hocurve or Gmsh, .vtu from hocurve or VTK):
+    /// scaled Jacobian, validity, stretching.
+    Quality {
+        /// High-order mesh: Gmsh MSH (4.1 or 2.2) or VTK XML .vtu with Lagrange cells.
+        mesh: PathBuf,
+        /// Print the summary as JSON (same field names as `curve --report`).
         #[arg(long)]
-        boundary_only: bool,
-        /// Output file: `.vtu` (VTK Lagrange cells) or `.msh` (Gmsh MSH 4.1, high order).
-        #[arg(short, long)]
-        output: PathBuf,
+        json: bool,
+        /// Where det J is sampled: the degree-2p quadrature points, the nodes, or both.
+        #[arg(long, value_enum, default_value = "quadrature")]
+        sample: SampleArg,
+        /// Also certify validity by Bézier bounds of det J (valid / invalid / undecided).
+        #[arg(long)]
+        certify: bool,
+        /// Write the scaled-Jacobian histogram (percentage per 0.05 bin) as SVG.
+        #[arg(long)]
+        histogram: Option<PathBuf>,
+        /// Write the stretching histogram as SVG.
+        #[arg(long)]
+        stretching_histogram: Option<PathBuf>,
     },
     /// Print what a mesh file holds: dimension, vertices, cells by type, boundary groups.
     Info {
         /// Linear input mesh (Gmsh MSH 4.1 or 2.2, ASCII or binary).
         mesh: PathBuf,
     },
+}
+
+/// How the mesh is curved (shared by `curve` and `demo`).
+#[derive(Args)]
+struct MethodArgs {
+    /// Nodal distribution on the reference elements: fekete, gll, warp-blend or
+    /// equispaced. Output files always hold equispaced nodes (what VTK and Gmsh assume);
+    /// the distribution decides where the mesh is sampled and curved.
+    #[arg(long, default_value = "fekete")]
+    nodes: NodeFamily,
+    /// Where boundary nodes go: geodesic (the paper's arc-length/geodesic placement) or
+    /// projection (closest point of the straight node; the baseline).
+    #[arg(long, default_value = "geodesic")]
+    boundary_nodes: BoundaryNodeStrategy,
+    /// Smallest angle (degrees) a curved surface edge may make with its neighbours at a
+    /// vertex; below it the edge is rebuilt as the paper's Hermite-type curve (Fig. 4,
+    /// p ≥ 3). 0 turns the correction off.
+    #[arg(long, default_value_t = 10.0)]
+    min_angle: f64,
+    /// Young's modulus E of the elastic analogy.
+    #[arg(long, default_value_t = 10.0)]
+    young: f64,
+    /// Poisson's ratio ν of the elastic analogy (in (−1, 0.5)).
+    #[arg(long, default_value_t = 0.4)]
+    poisson: f64,
+    /// Linear solver: auto (direct for small systems, else CG), direct or cg.
+    #[arg(long, value_enum, default_value = "auto")]
+    solver: SolverArg,
+    /// Boundary physical groups whose nodes slide in their plane (u·n = 0) instead of being
+    /// fixed, e.g. symmetry or end planes meeting a curved wall.
+    #[arg(long, num_args = 1.., value_name = "GROUP")]
+    slide: Vec<String>,
+    /// Move only the boundary nodes onto the geometry (no elastic solve): for looking at
+    /// the boundary placement.
+    #[arg(long)]
+    boundary_only: bool,
+}
+
+/// Where results go (shared by `curve` and `demo`).
+#[derive(Args)]
+struct OutputArgs {
+    /// Output file: `.vtu` (VTK Lagrange cells) or `.msh` (Gmsh MSH 4.1, high order).
+    /// The displacement is written as point data, the scaled Jacobian and stretching as
+    /// cell data.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Write a JSON report (sizes, solver, residual, quality, seconds per step).
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// Write the quality histograms as SVG into this directory
+    /// (scaled_jacobian.svg, stretching.svg).
+    #[arg(long)]
+    plots: Option<PathBuf>,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SolverArg {
+    Auto,
+    Direct,
+    Cg,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum SampleArg {
+    Quadrature,
+    Nodes,
+    Both,
 }
 
 fn main() -> ExitCode {
@@ -94,88 +183,371 @@ fn run(cli: Cli) -> Result<()> {
         Command::Curve {
             mesh,
             order,
-            nodes,
             straight,
             geometry,
             geometry_tolerance,
-            boundary_nodes,
-            young,
-            poisson,
-            boundary_only,
+            method,
             output,
         } => {
             if !straight && geometry.is_none() {
                 bail!("give a geometry to curve onto with --geometry FILE (.json or .igs), or pass --straight for the straight-sided order-{order} mesh");
             }
+            let Some(out) = output.output.clone() else {
+                bail!("give the output file with -o OUT.vtu (or .msh)");
+            };
+            check_output_path(&out)?;
             let start = Instant::now();
             let linear = hocurve_io::read_msh(&mesh)?;
-            let mut high_order = HighOrderMesh::from_linear(&linear, order as usize, nodes)
-                .with_context(|| format!("{}", mesh.display()))?;
-            if let Some(geometry) = geometry {
-                curve_boundary(
-                    &linear,
-                    &mut high_order,
-                    &geometry,
-                    geometry_tolerance,
-                    boundary_nodes,
-                    &hocurve_elastic::Material::new(young, poisson)?,
-                    boundary_only,
-                )?;
+            let model = geometry.as_deref().map(read_geometry).transpose()?;
+            if let (Some(path), Some((model, _))) = (&geometry, &model) {
+                let (curves, surfaces) = model.counts();
+                println!("{}: {curves} curves, {surfaces} surfaces", path.display());
             }
-            let quality =
-                hocurve_quality::assess(&high_order, &hocurve_quality::QualityOptions::default())?;
-            print!("{}", quality.summary);
-            hocurve_io::write_mesh(&output, &high_order)?;
+            let read = start.elapsed().as_secs_f64();
+            let mut options = method.options(order as usize)?;
+            options.geometry_tolerance = geometry_tolerance;
+            let geometry = model.as_ref().map(|(model, rule)| Geometry {
+                model,
+                rule: *rule,
+            });
             println!(
-                "{}: {}D, {} cells, order {} ({} nodes): {} nodes, {} boundary facets -> {} ({:.2} s)",
+                "{}: {}D, {} vertices, {} cells -> order {order} ({} nodes)",
                 mesh.display(),
-                high_order.dim,
-                high_order.cells.len(),
-                order,
-                nodes,
-                high_order.nodes.len(),
-                high_order.facets.len(),
-                output.display(),
-                start.elapsed().as_secs_f64()
+                linear.dim,
+                linear.vertices.len(),
+                linear.cells.len(),
+                options.family
             );
+            finish(&linear, geometry, &options, read, &out, &output)
+        }
+        Command::Demo {
+            name,
+            order,
+            method,
+            output,
+        } => {
+            let order = order.map_or(name.order(), |p| p as usize);
+            let out = output
+                .output
+                .clone()
+                .unwrap_or_else(|| PathBuf::from(format!("{}_p{order}.vtu", name.name())));
+            check_output_path(&out)?;
+            let start = Instant::now();
+            let linear = name.mesh()?;
+            let (model, rule) = name.geometry()?;
+            let options = method.options(order)?;
+            println!(
+                "demo {}: {}D, {} vertices, {} cells -> order {order} ({} nodes)",
+                name.name(),
+                linear.dim,
+                linear.vertices.len(),
+                linear.cells.len(),
+                options.family
+            );
+            let read = start.elapsed().as_secs_f64();
+            let geometry = Geometry {
+                model: &model,
+                rule,
+            };
+            finish(&linear, Some(geometry), &options, read, &out, &output)
+        }
+        Command::Quality {
+            mesh,
+            json,
+            sample,
+            certify,
+            histogram,
+            stretching_histogram,
+        } => {
+            let high_order = hocurve_io::read_high_order_mesh(&mesh)?;
+            let options = hocurve_quality::QualityOptions {
+                sampling: match sample {
+                    SampleArg::Quadrature => Sampling::Quadrature,
+                    SampleArg::Nodes => Sampling::Nodes,
+                    SampleArg::Both => Sampling::Both,
+                },
+                bezier: certify.then(Default::default),
+            };
+            let quality = hocurve_quality::assess(&high_order, &options)
+                .with_context(|| format!("{}", mesh.display()))?;
+            if json {
+                println!("{}", quality.summary.to_json()?);
+            } else {
+                println!(
+                    "{}: {}D, order {}, {} nodes",
+                    mesh.display(),
+                    high_order.dim,
+                    high_order.order,
+                    high_order.nodes.len()
+                );
+                print!("{}", quality.summary);
+            }
+            if let Some(path) = histogram {
+                hocurve_quality::write_histogram_svg(&path, &quality.summary)?;
+            }
+            if let Some(path) = stretching_histogram {
+                hocurve_quality::write_stretching_histogram_svg(&path, &quality.summary)?;
+            }
             Ok(())
         }
         Command::Info { mesh } => {
             let linear = hocurve_io::read_msh(&mesh)?;
-            println!("{}", mesh.display());
-            println!("  dimension  {}", linear.dim);
-            println!("  vertices   {}", linear.vertices.len());
-            let mut by_type = std::collections::BTreeMap::new();
-            for c in &linear.cells {
-                *by_type.entry(c.kind).or_insert(0usize) += 1;
-            }
-            for (kind, n) in by_type {
-                println!("  {:<10} {n}", kind.name());
-            }
-            for group in &linear.physical_groups {
-                let count = linear
-                    .facets
-                    .iter()
-                    .chain(&linear.cells)
-                    .filter(|e| {
-                        e.kind.dim() == group.dim
-                            && linear
-                                .physical_tags(group.dim, e.entity)
-                                .contains(&group.tag)
-                    })
-                    .count();
-                println!(
-                    "  group {:>3} \"{}\" ({}D): {count} elements",
-                    group.tag, group.name, group.dim
-                );
-            }
+            print_info(&mesh, &linear);
             Ok(())
         }
     }
 }
 
+impl MethodArgs {
+    fn options(&self, order: usize) -> Result<CurveOptions> {
+        let mut options = CurveOptions::new(order);
+        options.family = self.nodes;
+        options.placement.strategy = self.boundary_nodes;
+        options.placement.min_angle_degrees = (self.min_angle > 0.0).then_some(self.min_angle);
+        options.material = Material::new(self.young, self.poisson)?;
+        options.solver.kind = match self.solver {
+            SolverArg::Auto => SolverKind::Auto,
+            SolverArg::Direct => SolverKind::Direct,
+            SolverArg::Cg => SolverKind::Cg,
+        };
+        options.slide = self.slide.clone();
+        options.boundary_only = self.boundary_only;
+        Ok(options)
+    }
+}
+
+/// Fails early on an output path we could not write, before any work is done.
+fn check_output_path(path: &Path) -> Result<()> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase());
+    if !matches!(ext.as_deref(), Some("vtu" | "msh")) {
+        bail!(
+            "{}: unknown output format (expected .vtu or .msh)",
+            path.display()
+        );
+    }
+    Ok(())
+}
+
+/// Curves, writes the mesh, the report and the plots, and prints the summary table.
+fn finish(
+    linear: &LinearMesh,
+    geometry: Option<Geometry>,
+    options: &CurveOptions,
+    read_seconds: f64,
+    out: &Path,
+    output: &OutputArgs,
+) -> Result<()> {
+    let start = Instant::now();
+    let spinner = Spinner::new();
+    let mut curved = curve_mesh(linear, geometry, options, &mut |step| spinner.step(step))?;
+    spinner.step_message("writing the mesh");
+    let t = Instant::now();
+    write_curved(out, &curved)?;
+    curved.report.timings.write = t.elapsed().as_secs_f64();
+    curved.report.timings.read = read_seconds;
+    curved.report.timings.total = read_seconds + start.elapsed().as_secs_f64();
+    spinner.finish();
+
+    print!("{}", curved.quality.summary);
+    print_summary_table(&curved, out);
+    if curved.report.max_geometry_distance > 1e-10 * geometry.map_or(1.0, |g| g.model.size()) {
+        eprintln!(
+            "hocurve: warning: boundary nodes lie up to {:.3e} from the geometry (more than 1e-10 of the model size)",
+            curved.report.max_geometry_distance
+        );
+    }
+    if let Some(path) = &output.report {
+        let json = serde_json::to_string_pretty(&curved.report)?;
+        hocurve_io::write_atomically(path, |w| {
+            w.write_all(json.as_bytes())
+                .and_then(|()| w.write_all(b"\n"))
+                .map_err(|source| hocurve_io::IoError::Os {
+                    path: path.to_path_buf(),
+                    source,
+                })
+        })?;
+    }
+    if let Some(dir) = &output.plots {
+        write_plots(dir, &curved.quality.summary)?;
+    }
+    Ok(())
+}
+
+/// Writes the mesh with the displacement as point data and Ĩ and stretching as cell data.
+fn write_curved(path: &Path, curved: &CurvedMesh) -> Result<()> {
+    let displacement: Vec<f64> = curved.displacement.iter().flatten().copied().collect();
+    let point_data = [DataArray {
+        name: "displacement",
+        components: 3,
+        values: &displacement,
+    }];
+    let cell_data = quality_cell_data(&curved.quality);
+    let cell_arrays: Vec<DataArray> = cell_data
+        .iter()
+        .map(|(name, values)| DataArray {
+            name,
+            components: 1,
+            values,
+        })
+        .collect();
+    hocurve_io::write_mesh_with(path, &curved.mesh, &point_data, &cell_arrays)?;
+    Ok(())
+}
+
+/// Per-cell arrays for ParaView: scaled Jacobian and stretching.
+fn quality_cell_data(quality: &MeshQuality) -> Vec<(&'static str, Vec<f64>)> {
+    vec![
+        ("scaled_jacobian", quality.scaled_jacobian.clone()),
+        ("stretching", quality.stretching.clone()),
+    ]
+}
+
+fn write_plots(dir: &Path, summary: &QualitySummary) -> Result<()> {
+    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    hocurve_quality::write_histogram_svg(&dir.join("scaled_jacobian.svg"), summary)?;
+    hocurve_quality::write_stretching_histogram_svg(&dir.join("stretching.svg"), summary)?;
+    Ok(())
+}
+
+fn print_summary_table(curved: &CurvedMesh, out: &Path) {
+    let r = &curved.report;
+    let t = &r.timings;
+    let mut rows: Vec<(&str, String)> = vec![
+        ("output", out.display().to_string()),
+        (
+            "mesh",
+            format!(
+                "{} elements, order {}, {} nodes",
+                r.elements, r.order, r.nodes
+            ),
+        ),
+        (
+            "boundary",
+            format!(
+                "{} facets on the geometry ({} by name, {} by proximity), {} straight; {} curved facets, {} nodes on the geometry",
+                r.facets_by_name + r.facets_by_proximity,
+                r.facets_by_name,
+                r.facets_by_proximity,
+                r.facets_straight,
+                r.curved_facets,
+                r.boundary_nodes_on_geometry
+            ),
+        ),
+        (
+            "max distance to geometry",
+            format!(
+                "{:.3e} (vertices moved up to {:.3e}, tolerance {:.3e})",
+                r.max_geometry_distance, r.max_vertex_move, r.geometry_tolerance
+            ),
+        ),
+    ];
+    if r.solver != "none" {
+        rows.push((
+            "elasticity",
+            format!(
+                "{} dofs, {} solver, {} iterations, residual {:.1e}",
+                r.dofs, r.solver, r.iterations, r.residual
+            ),
+        ));
+    }
+    if r.small_angle_edges > 0 {
+        rows.push((
+            "small-angle edges",
+            format!(
+                "{} below the limit, {} corrected (Fig. 4); smallest edge angle {:.1}°",
+                r.small_angle_edges,
+                r.corrected_edges,
+                r.min_edge_angle_degrees.unwrap_or(f64::NAN)
+            ),
+        ));
+    }
+    if r.sliding_nodes > 0 {
+        rows.push(("sliding nodes", r.sliding_nodes.to_string()));
+    }
+    rows.push((
+        "min scaled Jacobian",
+        r.min_scaled_jacobian
+            .map_or("-".to_string(), |m| format!("{m:.4}")),
+    ));
+    rows.push(("invalid elements", r.invalid_elements.to_string()));
+    rows.push((
+        "time (s)",
+        format!(
+            "read {:.2}, nodes {:.2}, association {:.2}, boundary {:.2}, assembly {:.2}, solve {:.2}, quality {:.2}, write {:.2}; total {:.2}",
+            t.read, t.high_order_nodes, t.association, t.boundary_nodes, t.assembly, t.solve, t.quality, t.write, t.total
+        ),
+    ));
+    let width = rows.iter().map(|(k, _)| k.len()).max().unwrap_or(0);
+    for (key, value) in rows {
+        println!("  {key:<width$}  {value}");
+    }
+}
+
+/// A spinner on stderr naming the running step, shown only when stderr is a terminal.
+struct Spinner(Option<indicatif::ProgressBar>);
+
+impl Spinner {
+    fn new() -> Self {
+        if !std::io::stderr().is_terminal() {
+            return Spinner(None);
+        }
+        let bar = indicatif::ProgressBar::new_spinner();
+        bar.enable_steady_tick(Duration::from_millis(120));
+        Spinner(Some(bar))
+    }
+
+    fn step(&self, step: Step) {
+        self.step_message(step.describe());
+    }
+
+    fn step_message(&self, message: &'static str) {
+        if let Some(bar) = &self.0 {
+            bar.set_message(message);
+        }
+    }
+
+    fn finish(&self) {
+        if let Some(bar) = &self.0 {
+            bar.finish_and_clear();
+        }
+    }
+}
+
+fn print_info(path: &Path, linear: &LinearMesh) {
+    println!("{}", path.display());
+    println!("  dimension  {}", linear.dim);
+    println!("  vertices   {}", linear.vertices.len());
+    let mut by_type = std::collections::BTreeMap::new();
+    for c in &linear.cells {
+        *by_type.entry(c.kind).or_insert(0usize) += 1;
+    }
+    for (kind, n) in by_type {
+        println!("  {:<10} {n}", kind.name());
+    }
+    for group in &linear.physical_groups {
+        let count = linear
+            .facets
+            .iter()
+            .chain(&linear.cells)
+            .filter(|e| {
+                e.kind.dim() == group.dim
+                    && linear
+                        .physical_tags(group.dim, e.entity)
+                        .contains(&group.tag)
+            })
+            .count();
+        println!(
+            "  group {:>3} \"{}\" ({}D): {count} elements",
+            group.tag, group.name, group.dim
+        );
+    }
+}
+
 /// Reads a geometry file by its extension: `.json` or `.igs`/`.iges`.
-fn read_geometry(path: &std::path::Path) -> Result<(GeometryModel, AssociationRule)> {
+fn read_geometry(path: &Path) -> Result<(GeometryModel, AssociationRule)> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -197,89 +569,3 @@ fn read_geometry(path: &std::path::Path) -> Result<(GeometryModel, AssociationRu
     }
 }
 
-/// Associates the boundary with the geometry, places the boundary nodes on it and moves the
-/// whole mesh by the elastic analogy (or only the boundary nodes).
-fn curve_boundary(
-    linear: &LinearMesh,
-    mesh: &mut HighOrderMesh,
-    geometry_path: &std::path::Path,
-    tolerance: Option<f64>,
-    strategy: BoundaryNodeStrategy,
-    material: &hocurve_elastic::Material,
-    move_boundary_only: bool,
-) -> Result<()> {
-    let (geometry, rule) = read_geometry(geometry_path)?;
-    let (curves, surfaces) = geometry.counts();
-    println!(
-        "{}: {curves} curves, {surfaces} surfaces",
-        geometry_path.display()
-    );
-    let association = associate_boundary(linear, &geometry, rule, tolerance)
-        .with_context(|| format!("{}", geometry_path.display()))?;
-    println!(
-        "boundary: {} facets on the geometry ({} by name, {} by proximity), {} left straight (tolerance {:.3e}); vertices moved up to {:.3e}",
-        association.by_name + association.by_proximity,
-        association.by_name,
-        association.by_proximity,
-        association.unassociated,
-        association.tolerance,
-        association.max_vertex_move
-    );
-    if association.by_name + association.by_proximity == 0 {
-        bail!(
-            "no boundary facet lies on the geometry: name physical groups like the JSON entities, or check units and --geometry-tolerance"
-        );
-    }
-    let targets = place_boundary_nodes(mesh, &geometry, &association, strategy)?;
-    let size = geometry.size().max(f64::MIN_POSITIVE);
-    println!(
-        "boundary nodes: {} on {} curved facets, max distance from the geometry {:.3e} ({:.1e} of the model size)",
-        targets.targets.len(),
-        targets.curved_facets,
-        targets.max_geometry_distance,
-        targets.max_geometry_distance / size
-    );
-    if targets.max_geometry_distance > 1e-10 * size {
-        eprintln!(
-            "hocurve: warning: boundary nodes lie up to {:.3e} from the geometry (more than 1e-10 of the model size)",
-            targets.max_geometry_distance
-        );
-    }
-    if move_boundary_only {
-        for (&n, &x) in &targets.targets {
-            mesh.nodes[n as usize] = x;
-        }
-        return Ok(());
-    }
-    // The elastic analogy (Sect. 3.2): curved-boundary nodes move to their targets, other
-    // boundary nodes stay, and the displacement is carried into the domain.
-    let mut bc = hocurve_elastic::BoundaryConditions::default();
-    for n in hocurve_elastic::boundary_nodes(mesh)? {
-        bc.prescribed.insert(n, [0.0; 3]);
-    }
-    for (&n, &x) in &targets.targets {
-        let x0 = mesh.nodes[n as usize];
-        bc.prescribed
-            .insert(n, [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]]);
-    }
-    let solution = hocurve_elastic::solve_displacement(mesh, material, &bc, &Default::default())?;
-    println!(
-        "elasticity: {} dofs, solver {:?}, {} iterations, relative residual {:.1e} (assembly {:.2} s, solve {:.2} s)",
-        solution.dofs,
-        solution.solver_used,
-        solution.iterations,
-        solution.relative_residual,
-        solution.timings.assembly,
-        solution.timings.solve
-    );
-    for (x, u) in mesh.nodes.iter_mut().zip(&solution.displacement) {
-        for d in 0..3 {
-            x[d] += u[d];
-        }
-    }
-    // Boundary targets exactly, not up to the solver's round-off.
-    for (&n, &x) in &targets.targets {
-        mesh.nodes[n as usize] = x;
-    }
-    Ok(())
-}

@@ -1,16 +1,25 @@
 //! Boundary nodes on the true geometry (the paper's Sect. 3.1, 4.1, 4.2): association of
-//! boundary facets with CAD entities ([`association`]), edge nodes by arc length (Eq. (4)),
-//! approximate geodesics on surfaces (Eq. (5), Fig. 3) and face-interior nodes (Eqs. (6)–(7)).
+//! boundary facets with CAD entities ([`association`]), edge nodes by arc length (Eq. (4)) on
+//! boundary curves and on the intersection curves of surface patches ([`feature`]),
+//! approximate geodesics on surfaces (Eq. (5), Fig. 3) with the minimum-angle correction
+//! (Fig. 4, [`correction`]) and face-interior nodes (Eqs. (6)–(7)), all driven by
+//! [`place_boundary_nodes_with`].
 
 pub mod association;
 pub mod chart;
+pub mod correction;
+pub mod feature;
 pub mod path;
 pub mod placement;
+pub(crate) mod vector;
 
 pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
 pub use chart::SurfaceChart;
 pub use path::GeodesicPath;
-pub use placement::{place_boundary_nodes, BoundaryNodeStrategy, BoundaryTargets};
+pub use placement::{
+    place_boundary_nodes, place_boundary_nodes_with, BoundaryNodeStrategy, BoundaryTargets,
+    PlacementOptions,
+};
 
 /// What went wrong while putting boundary nodes on the geometry.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -33,6 +42,12 @@ pub enum GeodesicError {
         entity: String,
         mesh_dim: usize,
         facet_vertices: Vec<u32>,
+    },
+    /// An option of [`PlacementOptions`] out of its range.
+    #[error("placement option {option}: {reason}")]
+    InvalidOption {
+        option: &'static str,
+        reason: String,
     },
     /// The mesh, the association and the geometry do not belong together.
     #[error("{0}")]

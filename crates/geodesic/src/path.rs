@@ -83,13 +83,7 @@ impl GeodesicPath {
 
     /// A path through given parameters and points.
     fn from_polyline(params: Vec<[f64; 2]>, points: Vec<[f64; 3]>) -> Self {
-        let mut lengths = Vec::with_capacity(points.len());
-        let mut total = 0.0;
-        lengths.push(0.0);
-        for i in 0..points.len().saturating_sub(1) {
-            total += segment_arc(&points, i).0;
-            lengths.push(total);
-        }
+        let lengths = cumulative_lengths(&points);
         Self {
             params,
             points,
@@ -116,38 +110,50 @@ impl GeodesicPath {
         if fraction == 1.0 {
             return (self.params[n - 1], self.points[n - 1]);
         }
-        let target = fraction * self.length();
-        // The segment [k, k + 1] holding the target length.
-        let k = self
-            .lengths
-            .partition_point(|&l| l <= target)
-            .clamp(1, n - 1)
-            - 1;
-        let seg = self.lengths[k + 1] - self.lengths[k];
-        let tau = if seg > 0.0 {
-            (target - self.lengths[k]) / seg
-        } else {
-            0.0
-        };
-        // The point at arc fraction τ of the segment's circular arc seen from the circle's
-        // centre crosses the chord at t = ½ (1 + tan((τ − ½)φ) / tan(φ/2)).
-        let phi = segment_arc(&self.points, k).1;
-        let t = if phi > 1e-6 {
-            0.5 * (1.0 + ((tau - 0.5) * phi).tan() / (0.5 * phi).tan())
-        } else {
-            tau
-        };
+        let (k, t, on_chord) = chord_point_at_fraction(&self.points, &self.lengths, fraction);
         let (a, b) = (self.params[k], self.params[k + 1]);
-        let (xa, xb) = (self.points[k], self.points[k + 1]);
         let guess = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
-        let on_chord = [
-            xa[0] + t * (xb[0] - xa[0]),
-            xa[1] + t * (xb[1] - xa[1]),
-            xa[2] + t * (xb[2] - xa[2]),
-        ];
         let (uv, x) = chart.project_near(on_chord, guess);
         (chart.unroll_near(uv, guess), x)
     }
+}
+
+/// The point of a polyline (with cumulative arc lengths `lengths`, see `segment_arc`) at
+/// `fraction` ∈ (0, 1) of its length, before projection: the segment `k` holding it, the chord
+/// parameter `t` ∈ [0, 1] on that segment, and the chord point. Inside a segment the length is
+/// that of its circular arc, so `t` is where the ray from the circle's centre through the arc
+/// point crosses the chord — exact for a polyline sampling a circle.
+pub(crate) fn chord_point_at_fraction(
+    points: &[[f64; 3]],
+    lengths: &[f64],
+    fraction: f64,
+) -> (usize, f64, [f64; 3]) {
+    let n = points.len();
+    let total = lengths.last().copied().unwrap_or(0.0);
+    let target = fraction * total;
+    // The segment [k, k + 1] holding the target length.
+    let k = lengths.partition_point(|&l| l <= target).clamp(1, n - 1) - 1;
+    let seg = lengths[k + 1] - lengths[k];
+    let tau = if seg > 0.0 {
+        (target - lengths[k]) / seg
+    } else {
+        0.0
+    };
+    // The point at arc fraction τ of the segment's circular arc seen from the circle's
+    // centre crosses the chord at t = ½ (1 + tan((τ − ½)φ) / tan(φ/2)).
+    let phi = segment_arc(points, k).1;
+    let t = if phi > 1e-6 {
+        0.5 * (1.0 + ((tau - 0.5) * phi).tan() / (0.5 * phi).tan())
+    } else {
+        tau
+    };
+    let (xa, xb) = (points[k], points[k + 1]);
+    let on_chord = [
+        xa[0] + t * (xb[0] - xa[0]),
+        xa[1] + t * (xb[1] - xa[1]),
+        xa[2] + t * (xb[2] - xa[2]),
+    ];
+    (k, t, on_chord)
 }
 
 /// λ on the bisector of the parameter segment `a`–`b` minimising |xa − S(λ)| + |S(λ) − xb|
@@ -345,7 +351,20 @@ pub(crate) fn brent_minimum(f: impl Fn(f64) -> f64, lo: f64, hi: f64, tol: f64) 
     x
 }
 
-fn polyline_length(points: &[[f64; 3]]) -> f64 {
+/// Cumulative lengths of a polyline's segments measured as circular arcs (`segment_arc`):
+/// `[0, l₀, l₀ + l₁, …]`.
+pub(crate) fn cumulative_lengths(points: &[[f64; 3]]) -> Vec<f64> {
+    let mut lengths = Vec::with_capacity(points.len());
+    let mut total = 0.0;
+    lengths.push(0.0);
+    for i in 0..points.len().saturating_sub(1) {
+        total += segment_arc(points, i).0;
+        lengths.push(total);
+    }
+    lengths
+}
+
+pub(crate) fn polyline_length(points: &[[f64; 3]]) -> f64 {
     (0..points.len().saturating_sub(1))
         .map(|i| segment_arc(points, i).0)
         .sum()
@@ -355,7 +374,7 @@ fn polyline_length(points: &[[f64; 3]]) -> f64 {
 /// neighbours (mean curvature of the circles through (i−1, i, i+1) and (i, i+1, i+2)), and the
 /// angle φ it subtends. Exact for a circle — a great circle on a sphere — and fourth-order
 /// accurate for a smooth curve, where the chord alone is only second-order.
-fn segment_arc(points: &[[f64; 3]], i: usize) -> (f64, f64) {
+pub(crate) fn segment_arc(points: &[[f64; 3]], i: usize) -> (f64, f64) {
     let c = distance(points[i], points[i + 1]);
     let mut curvature = 0.0;
     let mut count = 0.0;

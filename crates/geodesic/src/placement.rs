@@ -1,10 +1,17 @@
 //! Target positions of every high-order node on a curved boundary (the paper's Sect. 3.1,
 //! 4.1, 4.2): vertices snapped onto the geometry, edge nodes by arc length along the boundary
-//! curve (2D, Eq. (4)) or along the approximate geodesic (3D, Eq. (5)), and face-interior nodes
-//! by the geodesic constructions of Eq. (6) (triangles) and Eq. (7) (quadrilaterals) — or, as
-//! the baseline the paper improves on, by closest-point projection of the straight nodes.
+//! curve (2D, Eq. (4)), along the intersection curve of the surfaces that meet at a feature
+//! edge (3D patch boundaries, [`crate::feature`]) or along the approximate geodesic (3D, Eq.
+//! (5)) — with the minimum-angle correction of Fig. 4 ([`crate::correction`]) — and
+//! face-interior nodes by the geodesic constructions of Eq. (6) (triangles) and Eq. (7)
+//! (quadrilaterals); or, as the baseline the paper improves on, by closest-point projection of
+//! the straight nodes.
+//!
+//! Every edge's nodes are computed once, from one carrier built in the edge's canonical
+//! orientation (lower vertex id first), so the facets on either side of it see the very same
+//! points.
 
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use hocurve_mesh::HighOrderMesh;
 use hocurve_nodes::{NodeEntity, ReferenceNodes, Shape};
@@ -13,9 +20,12 @@ use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface}
 use hocurve_nurbs::{EntityGeometry, GeometryModel, NurbsCurve};
 use rayon::prelude::*;
 
-use crate::association::{snap_onto, snap_onto_with};
+use crate::association::snap_onto;
 use crate::chart::SurfaceChart;
+use crate::correction::{check_edge, CorrectedEdge, EdgeEnd, Neighbour};
+use crate::feature::FeatureCurve;
 use crate::path::{distance, GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
+use crate::vector::start_tangent;
 use crate::{BoundaryAssociation, GeodesicError};
 
 /// How boundary nodes are placed on the geometry.
@@ -41,6 +51,71 @@ impl std::str::FromStr for BoundaryNodeStrategy {
     }
 }
 
+/// Options of [`place_boundary_nodes_with`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlacementOptions {
+    /// How the nodes are placed: the paper's geodesic method (default) or closest-point
+    /// projection of the straight nodes.
+    pub strategy: BoundaryNodeStrategy,
+    /// The paper's minimum-angle correction (Sect. 4.1, Fig. 4): surface edges making an
+    /// angle below this limit (degrees, in [0, 90)) with a neighbouring edge of a curved face
+    /// are replaced by a Hermite-type polynomial curve whose end tangents restore the limit
+    /// (see [`crate::correction`]). `None` or `Some(0.0)` turns it off; default `Some(10.0)`.
+    /// Only used by [`BoundaryNodeStrategy::Geodesic`] in 3D at orders p ≥ 3 (at p = 2 small
+    /// angles are counted but not corrected).
+    pub min_angle_degrees: Option<f64>,
+    /// Relative tolerance on the length of traced intersection curves (feature edges between
+    /// two surfaces without a curve entity in the model): the bisection stops when the
+    /// polyline's length changes by less than this. Default 1e-12.
+    pub feature_length_tolerance: f64,
+}
+
+impl Default for PlacementOptions {
+    fn default() -> Self {
+        Self::new(BoundaryNodeStrategy::default())
+    }
+}
+
+impl PlacementOptions {
+    /// The defaults with the given strategy: minimum angle 10°, feature curves traced to a
+    /// relative length change of 1e-12.
+    pub fn new(strategy: BoundaryNodeStrategy) -> Self {
+        Self {
+            strategy,
+            min_angle_degrees: Some(10.0),
+            feature_length_tolerance: 1e-12,
+        }
+    }
+
+    /// The same options with the minimum-angle limit `degrees` (`None`: no correction).
+    pub fn with_min_angle(mut self, degrees: Option<f64>) -> Self {
+        self.min_angle_degrees = degrees;
+        self
+    }
+
+    /// The angle limit in radians, `None` when the correction is off; an error for a limit
+    /// outside [0, 90) degrees or a tolerance that is not a positive finite number.
+    fn checked_limit(&self) -> Result<Option<f64>, GeodesicError> {
+        let t = self.feature_length_tolerance;
+        if !(t.is_finite() && t > 0.0) {
+            return Err(GeodesicError::InvalidOption {
+                option: "feature_length_tolerance",
+                reason: format!("must be a finite number > 0, got {t}"),
+            });
+        }
+        match self.min_angle_degrees {
+            None => Ok(None),
+            Some(a) if a.is_finite() && (0.0..90.0).contains(&a) => {
+                Ok((a > 0.0).then(|| a.to_radians()))
+            }
+            Some(a) => Err(GeodesicError::InvalidOption {
+                option: "min_angle_degrees",
+                reason: format!("must be an angle in [0, 90) degrees, got {a}"),
+            }),
+        }
+    }
+}
+
 /// Where the nodes of the curved boundary go.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct BoundaryTargets {
@@ -52,34 +127,51 @@ pub struct BoundaryTargets {
     pub curved_facets: usize,
     /// Largest distance of a target from its entities (should be round-off).
     pub max_geometry_distance: f64,
+    /// Surface edges with an angle below the minimum-angle limit (Fig. 4a), corrected or not.
+    pub small_angle_edges: usize,
+    /// Edges replaced by the Hermite-type curve of the minimum-angle correction (Fig. 4b).
+    pub corrected_edges: usize,
+    /// The vertex pairs (lower id first) of the corrected edges, sorted.
+    pub corrected_edge_vertices: Vec<[u32; 2]>,
+    /// Smallest angle (degrees) between a surface edge and a neighbouring edge of a curved
+    /// face before the correction (`None` when not measured: 2D, projection, p = 1, no limit).
+    pub min_edge_angle_degrees: Option<f64>,
+    /// Feature edges (on two or more surfaces) placed by arc length along the model's own
+    /// curve entity.
+    pub feature_edges_on_curves: usize,
+    /// Feature edges placed along a traced intersection curve.
+    pub feature_edges_traced: usize,
 }
 
 /// How the interior nodes of one mesh edge are placed: by the fraction of the length from the
-/// edge's lower-numbered vertex.
-enum EdgeCarrier<'a> {
+/// edge's first vertex.
+pub(crate) enum EdgeCarrier<'a> {
     /// A boundary curve (2D) between two parameters, possibly across the seam of a closed curve.
     Curve(CurveArc<'a>),
-    /// An approximate geodesic on a surface; `also_on` lists further surfaces (a feature
-    /// edge between two entities), onto which the points are then snapped.
+    /// An approximate geodesic on a surface (an edge inside one surface patch).
     Surface {
         chart: SurfaceChart<'a>,
         path: GeodesicPath,
-        also_on: Vec<usize>,
     },
+    /// The intersection of two or more surfaces (a feature edge, on a patch boundary).
+    Feature(FeatureCurve<'a>),
+    /// A surface edge replaced by the minimum-angle correction.
+    Corrected(CorrectedEdge<'a>),
 }
 
 /// A piece of a NURBS curve from `from` to `to`, the short way round if the curve is closed.
-struct CurveArc<'a> {
+pub(crate) struct CurveArc<'a> {
     curve: &'a NurbsCurve,
     from: f64,
     to: f64,
     /// Crosses the seam of a closed curve.
     wraps: bool,
-    length: f64,
+    /// Length of the arc.
+    pub(crate) length: f64,
 }
 
 impl<'a> CurveArc<'a> {
-    fn new(curve: &'a NurbsCurve, from: f64, to: f64) -> Self {
+    pub(crate) fn new(curve: &'a NurbsCurve, from: f64, to: f64) -> Self {
         let direct = arc_length(curve, from, to);
         if curve.is_closed() {
             let (s0, s1) = curve.domain();
@@ -104,7 +196,7 @@ impl<'a> CurveArc<'a> {
     }
 
     /// The point at `fraction` of the arc length from `from` (the paper's Eq. (4)).
-    fn at(&self, fraction: f64) -> [f64; 3] {
+    pub(crate) fn at(&self, fraction: f64) -> [f64; 3] {
         let c = self.curve;
         if !self.wraps {
             return c.point(parameter_at_length_fraction(
@@ -140,13 +232,32 @@ impl<'a> CurveArc<'a> {
 }
 
 /// Target positions of the nodes of every associated facet of `mesh` (a straight-sided
-/// high-order mesh built from the linear mesh that `association` was made for).
+/// high-order mesh built from the linear mesh that `association` was made for), with the
+/// default [`PlacementOptions`] for `strategy` (minimum-angle correction at 10°).
 pub fn place_boundary_nodes(
     mesh: &HighOrderMesh,
     geometry: &GeometryModel,
     association: &BoundaryAssociation,
     strategy: BoundaryNodeStrategy,
 ) -> Result<BoundaryTargets, GeodesicError> {
+    place_boundary_nodes_with(
+        mesh,
+        geometry,
+        association,
+        &PlacementOptions::new(strategy),
+    )
+}
+
+/// Target positions of the nodes of every associated facet of `mesh` (a straight-sided
+/// high-order mesh built from the linear mesh that `association` was made for), placed as
+/// `options` say.
+pub fn place_boundary_nodes_with(
+    mesh: &HighOrderMesh,
+    geometry: &GeometryModel,
+    association: &BoundaryAssociation,
+    options: &PlacementOptions,
+) -> Result<BoundaryTargets, GeodesicError> {
+    let limit = options.checked_limit()?;
     if association.facet_entity.len() != mesh.facets.len() {
         return Err(GeodesicError::Mismatch(format!(
             "the association covers {} facets but the mesh has {}",
@@ -177,9 +288,11 @@ pub fn place_boundary_nodes(
     }
 
     // Every node of a curved facet lies on the facet's entity; nodes of edges between facets
-    // of different entities lie on all of them.
+    // of different entities lie on all of them. For each edge, the neighbouring edges at its
+    // ends in the facets holding it: (vertex, the facet's next vertex beyond the edge).
     let mut node_entities: BTreeMap<u32, BTreeSet<usize>> = BTreeMap::new();
     let mut edge_entities: BTreeMap<[u32; 2], BTreeSet<usize>> = BTreeMap::new();
+    let mut edge_neighbours: BTreeMap<[u32; 2], Vec<(u32, u32)>> = BTreeMap::new();
     for &(k, e) in &curved {
         let facet = &mesh.facets[k];
         for &n in &facet.nodes {
@@ -191,10 +304,16 @@ pub fn place_boundary_nodes(
             .map_err(|err| GeodesicError::Mismatch(err.to_string()))?;
         for [i, j] in facet_edges(shape) {
             let (a, b) = (facet.nodes[i], facet.nodes[j]);
-            edge_entities
-                .entry([a.min(b), a.max(b)])
-                .or_default()
-                .insert(e);
+            let key = [a.min(b), a.max(b)];
+            edge_entities.entry(key).or_default().insert(e);
+            if shape != Shape::Line {
+                // Facet edges run round the polygon: i's other neighbour precedes it, j's
+                // follows it.
+                let nv = shape.num_vertices();
+                let list = edge_neighbours.entry(key).or_default();
+                list.push((a, facet.nodes[(i + nv - 1) % nv]));
+                list.push((b, facet.nodes[(j + 1) % nv]));
+            }
         }
     }
     if order == 1 {
@@ -202,7 +321,7 @@ pub fn place_boundary_nodes(
         return Ok(out);
     }
 
-    if strategy == BoundaryNodeStrategy::Projection {
+    if options.strategy == BoundaryNodeStrategy::Projection {
         let work: Vec<(u32, Vec<usize>)> = node_entities
             .iter()
             .filter(|(n, _)| !association.vertex_targets.contains_key(n))
@@ -230,15 +349,116 @@ pub fn place_boundary_nodes(
         .collect();
     let carriers: Vec<Result<EdgeCarrier, GeodesicError>> = edges
         .par_iter()
-        .map(|(vertices, entities)| edge_carrier(geometry, association, *vertices, entities))
+        .map(|(vertices, entities)| {
+            edge_carrier(
+                geometry,
+                association,
+                *vertices,
+                entities,
+                options.feature_length_tolerance,
+            )
+        })
         .collect();
     let mut carrier_of: BTreeMap<[u32; 2], EdgeCarrier> = BTreeMap::new();
     for ((vertices, _), c) in edges.iter().zip(carriers) {
-        carrier_of.insert(*vertices, c?);
+        let c = c?;
+        if let EdgeCarrier::Feature(f) = &c {
+            if f.curve_entity().is_some() {
+                out.feature_edges_on_curves += 1;
+            } else {
+                out.feature_edges_traced += 1;
+            }
+        }
+        carrier_of.insert(*vertices, c);
     }
 
-    // Edge nodes and face-interior nodes, facet by facet (edge nodes shared by two facets are
-    // computed from the same carrier and fraction, so they agree bit for bit).
+    // The minimum-angle correction (Fig. 4), from the uncorrected carriers.
+    if let (Some(limit), 3) = (limit, mesh.dim) {
+        let checks: Vec<([u32; 2], Option<crate::correction::AngleCheck>)> = carrier_of
+            .par_iter()
+            .map(|(key, _)| {
+                let check = check_edge_angles(
+                    association,
+                    &carrier_of,
+                    &edge_neighbours,
+                    [key[0], key[1]],
+                    order,
+                    limit,
+                )?;
+                Ok((*key, check))
+            })
+            .collect::<Result<_, GeodesicError>>()?;
+        let mut min_angle = f64::INFINITY;
+        for (key, check) in checks {
+            let Some(check) = check else { continue };
+            min_angle = min_angle.min(check.min_angle);
+            if check.min_angle < limit {
+                out.small_angle_edges += 1;
+            }
+            let Some(curve) = check.curve else { continue };
+            let entity = edge_entities[&key].iter().copied().next();
+            if let (Some(EdgeCarrier::Surface { chart, path }), Some(entity)) =
+                (carrier_of.remove(&key), entity)
+            {
+                carrier_of.insert(
+                    key,
+                    EdgeCarrier::Corrected(CorrectedEdge {
+                        geometry,
+                        entity,
+                        chart,
+                        curve,
+                        guide: path,
+                    }),
+                );
+                out.corrected_edge_vertices.push(key);
+            }
+        }
+        out.corrected_edges = out.corrected_edge_vertices.len();
+        if min_angle.is_finite() {
+            out.min_edge_angle_degrees = Some(min_angle.to_degrees());
+        }
+    }
+
+    // Edge nodes, once per edge from its carrier, at the reference 1D distribution (the
+    // mesh numbers edge e's interior nodes from its lower vertex in this order).
+    let line_fractions: Vec<f64> = mesh
+        .family
+        .interior_nodes(Shape::Line, order)
+        .iter()
+        .map(|(x, _)| x[0])
+        .collect();
+    let edge_ids: HashMap<[u32; 2], usize> = mesh
+        .topology
+        .edges
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| carrier_of.contains_key(*e))
+        .map(|(i, e)| (*e, i))
+        .collect();
+    let edge_work: Vec<(&[u32; 2], &EdgeCarrier)> = carrier_of.iter().collect();
+    let edge_nodes: Vec<Vec<(u32, [f64; 3])>> = edge_work
+        .par_iter()
+        .map(|(key, carrier)| {
+            let e = *edge_ids.get(*key).ok_or_else(|| {
+                GeodesicError::Mismatch(format!(
+                    "edge {key:?} of a curved facet is not a mesh edge"
+                ))
+            })?;
+            let first = mesh.layout.edge_first_node(e, order);
+            Ok(line_fractions
+                .iter()
+                .enumerate()
+                .map(|(k, &f)| ((first + k) as u32, carrier.at(f).1))
+                .collect())
+        })
+        .collect::<Result<_, GeodesicError>>()?;
+    for list in edge_nodes {
+        for (n, x) in list {
+            out.targets.insert(n, x);
+        }
+    }
+
+    // Face-interior nodes, facet by facet (from the same carriers).
     let reference: BTreeMap<Shape, ReferenceNodes> = curved
         .iter()
         .filter_map(|&(k, _)| mesh.facets[k].kind.shape().ok())
@@ -278,6 +498,73 @@ pub fn place_boundary_nodes(
     Ok(out)
 }
 
+/// The minimum-angle check of the surface edge `[from, to]` (see [`crate::correction`]):
+/// `None` for edges that are not inside one surface or where a tangent plane is missing.
+/// The edge's own carrier is rebuilt in the given orientation only if it is not stored in it.
+pub(crate) fn check_edge_angles(
+    association: &BoundaryAssociation,
+    carriers: &BTreeMap<[u32; 2], EdgeCarrier>,
+    edge_neighbours: &BTreeMap<[u32; 2], Vec<(u32, u32)>>,
+    [from, to]: [u32; 2],
+    order: usize,
+    limit: f64,
+) -> Result<Option<crate::correction::AngleCheck>, GeodesicError> {
+    let key = [from.min(to), from.max(to)];
+    let Some(EdgeCarrier::Surface { chart, path }) = carriers.get(&key) else {
+        return Ok(None);
+    };
+    let reversed;
+    let path = if from < to {
+        path
+    } else {
+        reversed = path.reversed();
+        &reversed
+    };
+    let vertex = |v: u32| {
+        association.vertex_targets.get(&v).copied().ok_or_else(|| {
+            GeodesicError::Mismatch(format!("vertex {v} of a curved facet was not snapped"))
+        })
+    };
+    let neighbours = edge_neighbours.get(&key).map(Vec::as_slice).unwrap_or(&[]);
+    let mut ends = Vec::with_capacity(2);
+    for (v, at_end) in [(from, false), (to, true)] {
+        let Some(tangent) = path.end_tangent(at_end) else {
+            return Ok(None);
+        };
+        let mut list = Vec::new();
+        for &(_, w) in neighbours.iter().filter(|(u, _)| *u == v) {
+            let nkey = [v.min(w), v.max(w)];
+            let Some(carrier) = carriers.get(&nkey) else {
+                continue;
+            };
+            let Some(tangent) = carrier.end_tangent(v != nkey[0]) else {
+                continue;
+            };
+            list.push(Neighbour {
+                tangent,
+                far_vertex: vertex(w)?,
+                correctable: matches!(carrier, EdgeCarrier::Surface { .. }) && order >= 3,
+            });
+        }
+        let n = path.params.len();
+        ends.push(EdgeEnd {
+            vertex: v,
+            point: vertex(v)?,
+            param: if at_end {
+                path.params[n - 1]
+            } else {
+                path.params[0]
+            },
+            tangent,
+            neighbours: list,
+        });
+    }
+    let ends: [EdgeEnd; 2] = ends
+        .try_into()
+        .map_err(|_| GeodesicError::Mismatch("an edge has two ends".into()))?;
+    Ok(check_edge(chart, &ends, path.length(), order, limit))
+}
+
 /// The local vertex pairs of a facet's edges.
 fn facet_edges(shape: Shape) -> Vec<[usize; 2]> {
     match shape {
@@ -286,12 +573,15 @@ fn facet_edges(shape: Shape) -> Vec<[usize; 2]> {
     }
 }
 
-/// The carrier of the mesh edge `[a, b]` (a < b) lying on `entities`.
-fn edge_carrier<'a>(
+/// The carrier of the mesh edge from vertex `a` to vertex `b` lying on `entities`: the
+/// boundary curve (2D), the geodesic on the one surface, or the intersection curve of
+/// several surfaces (traced to the relative length tolerance `feature_tolerance`).
+pub(crate) fn edge_carrier<'a>(
     geometry: &'a GeometryModel,
     association: &BoundaryAssociation,
     [a, b]: [u32; 2],
     entities: &[usize],
+    feature_tolerance: f64,
 ) -> Result<EdgeCarrier<'a>, GeodesicError> {
     let vertex = |v: u32| {
         association.vertex_targets.get(&v).copied().ok_or_else(|| {
@@ -299,8 +589,13 @@ fn edge_carrier<'a>(
         })
     };
     let (xa, xb) = (vertex(a)?, vertex(b)?);
-    let first = entities[0];
-    match &geometry.entities[first].geometry {
+    let first = *entities
+        .first()
+        .ok_or_else(|| GeodesicError::Mismatch(format!("edge {a}–{b} lies on no entity")))?;
+    let entity = geometry.entities.get(first).ok_or_else(|| {
+        GeodesicError::Mismatch(format!("entity index {first} is not in the geometry"))
+    })?;
+    match &entity.geometry {
         EntityGeometry::Curve(curve) => {
             let (la, lb) = (
                 closest_point_on_curve(curve, xa).param,
@@ -308,6 +603,9 @@ fn edge_carrier<'a>(
             );
             Ok(EdgeCarrier::Curve(CurveArc::new(curve, la, lb)))
         }
+        EntityGeometry::Surface(_) if entities.len() > 1 => Ok(EdgeCarrier::Feature(
+            FeatureCurve::between(geometry, entities, xa, xb, feature_tolerance),
+        )),
         EntityGeometry::Surface(surface) => {
             let chart = SurfaceChart::new(surface);
             let (pa, pb) = (
@@ -315,41 +613,58 @@ fn edge_carrier<'a>(
                 closest_point_on_surface(surface, xb).param,
             );
             let path = GeodesicPath::between(&chart, pa, pb, DEFAULT_LENGTH_TOLERANCE);
-            Ok(EdgeCarrier::Surface {
-                chart,
-                path,
-                also_on: entities[1..].to_vec(),
-            })
+            Ok(EdgeCarrier::Surface { chart, path })
         }
     }
 }
 
 impl EdgeCarrier<'_> {
-    /// The point at `fraction` of the edge's length from its lower vertex, with its surface
-    /// parameter where the carrier is a surface.
-    fn at(&self, geometry: &GeometryModel, fraction: f64) -> ([f64; 2], [f64; 3]) {
+    /// The point at `fraction` of the edge's length from its first vertex, with its surface
+    /// parameter where the carrier is one surface (zero otherwise: users re-invert).
+    pub(crate) fn at(&self, fraction: f64) -> ([f64; 2], [f64; 3]) {
         match self {
             EdgeCarrier::Curve(arc) => ([0.0; 2], arc.at(fraction)),
-            EdgeCarrier::Surface {
-                chart,
-                path,
-                also_on,
-            } => {
-                let (uv, x) = path.at_fraction(chart, fraction);
-                if also_on.is_empty() {
-                    (uv, x)
-                } else {
-                    (
-                        uv,
-                        snap_onto_with(geometry, also_on, x, |y| chart.project_near(y, uv).1),
-                    )
-                }
-            }
+            EdgeCarrier::Surface { chart, path } => path.at_fraction(chart, fraction),
+            EdgeCarrier::Feature(curve) => ([0.0; 2], curve.at(fraction)),
+            EdgeCarrier::Corrected(edge) => edge.at(fraction),
+        }
+    }
+
+    /// Unit tangent of the uncorrected carrier at its first vertex (`at_end = false`) or its
+    /// last, pointing into the edge; `None` for 2D curves and corrected edges.
+    pub(crate) fn end_tangent(&self, at_end: bool) -> Option<[f64; 3]> {
+        match self {
+            EdgeCarrier::Surface { path, .. } => path.end_tangent(at_end),
+            EdgeCarrier::Feature(curve) => curve.end_tangent(at_end),
+            EdgeCarrier::Curve(_) | EdgeCarrier::Corrected(_) => None,
         }
     }
 }
 
-/// Places the edge and interior nodes of one facet on entity `entity`.
+impl GeodesicPath {
+    /// Unit tangent at the start (`at_end = false`) or the end, pointing into the path.
+    pub(crate) fn end_tangent(&self, at_end: bool) -> Option<[f64; 3]> {
+        if at_end {
+            let reversed: Vec<[f64; 3]> = self.points.iter().rev().copied().collect();
+            start_tangent(&reversed)
+        } else {
+            start_tangent(&self.points)
+        }
+    }
+
+    /// The same path run backwards.
+    pub(crate) fn reversed(&self) -> Self {
+        let total = self.length();
+        Self {
+            params: self.params.iter().rev().copied().collect(),
+            points: self.points.iter().rev().copied().collect(),
+            lengths: self.lengths.iter().rev().map(|l| total - l).collect(),
+        }
+    }
+}
+
+/// Places the interior nodes of one facet on entity `entity` (its edge nodes are placed once
+/// per edge, by [`place_boundary_nodes_with`]).
 fn place_facet(
     geometry: &GeometryModel,
     carriers: &BTreeMap<[u32; 2], EdgeCarrier>,
@@ -358,7 +673,6 @@ fn place_facet(
     reference: &ReferenceNodes,
     entity: usize,
 ) -> Result<Vec<(u32, [f64; 3])>, GeodesicError> {
-    let vertices = shape.vertices();
     // The point at `fraction` of the way from local vertex i to local vertex j.
     let along =
         |i: usize, j: usize, fraction: f64| -> Result<([f64; 2], [f64; 3]), GeodesicError> {
@@ -368,26 +682,19 @@ fn place_facet(
                 .get(&key)
                 .ok_or_else(|| GeodesicError::Mismatch(format!("no carrier for edge {key:?}")))?;
             let f = if a < b { fraction } else { 1.0 - fraction };
-            Ok(carrier.at(geometry, f))
+            Ok(carrier.at(f))
         };
     let mut out = Vec::new();
+    if shape == Shape::Line {
+        return Ok(out);
+    }
     for ((&n, xi), ent) in nodes
         .iter()
         .zip(reference.points())
         .zip(reference.entities())
     {
         match *ent {
-            NodeEntity::Vertex(_) => {}
-            NodeEntity::Edge { edge, .. } => {
-                let [i, j] = facet_edges(shape)[edge];
-                out.push((
-                    n,
-                    along(i, j, reference_fraction(vertices[i], vertices[j], *xi))?.1,
-                ));
-            }
-            NodeEntity::Interior(_) if shape == Shape::Line => {
-                out.push((n, along(0, 1, xi[0])?.1));
-            }
+            NodeEntity::Vertex(_) | NodeEntity::Edge { .. } => {}
             NodeEntity::Interior(_) | NodeEntity::Face { .. } => {
                 let x = match shape {
                     Shape::Tri => triangle_node(geometry, entity, &along, *xi)?,
@@ -404,16 +711,6 @@ fn place_facet(
         }
     }
     Ok(out)
-}
-
-/// Fraction of the way from reference vertex `a` to `b` of the reference point `xi` on that edge.
-fn reference_fraction(a: [f64; 3], b: [f64; 3], xi: [f64; 3]) -> f64 {
-    let l = distance(a, b);
-    if l > 0.0 {
-        distance(a, xi) / l
-    } else {
-        0.0
-    }
 }
 
 /// Points at fractions along two boundary points' geodesic on `entity`.
@@ -547,3 +844,7 @@ fn max_distance(
         })
         .reduce(|| 0.0, f64::max)
 }
+
+#[cfg(test)]
+#[path = "tests/placement.rs"]
+mod tests;

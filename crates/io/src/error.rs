@@ -60,6 +60,12 @@ pub enum IoError {
         /// The file.
         path: PathBuf,
     },
+    /// The input format is not known.
+    #[error("{}: unknown mesh format (expected a .msh or .vtu file name)", path.display())]
+    UnknownInputFormat {
+        /// The file.
+        path: PathBuf,
+    },
     /// Something hocurve cannot write (e.g. an order beyond a format's element types).
     #[error("{}: {message}", path.display())]
     Unsupported {

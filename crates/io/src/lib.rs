@@ -1,18 +1,27 @@
-//! File formats for hocurve: Gmsh MSH in (4.1 and 2.2, ASCII and binary); high-order Gmsh
-//! MSH 4.1 and VTK XML `.vtu` Lagrange cells out.
+//! File formats for hocurve: Gmsh MSH in (4.1 and 2.2, ASCII and binary; linear meshes to
+//! curve, and complete high-order meshes to assess) and VTK XML `.vtu` in (linear,
+//! quadratic and Lagrange cells, as hocurve or VTK write them); high-order Gmsh MSH 4.1
+//! and `.vtu` Lagrange cells out, with point and cell data.
 
 mod error;
 mod msh_read;
 
 pub use error::{IoError, Location};
-pub use msh_read::{parse_msh, read_msh};
+pub use msh_read::{parse_high_order_msh, parse_msh, read_high_order_msh, read_msh};
 mod atomic;
 mod msh_write;
 pub mod ordering;
+mod vtu_read;
 mod vtu_write;
+mod xml;
+
+#[cfg(test)]
+#[path = "tests/meshes.rs"]
+mod test_meshes;
 
 pub use atomic::write_atomically;
-pub use msh_write::write_msh;
+pub use msh_write::{write_msh, write_msh_with};
+pub use vtu_read::{parse_vtu, read_vtu};
 pub use vtu_write::{write_vtu, write_vtu_with, DataArray, VtuEncoding};
 
 use std::path::Path;
@@ -20,34 +29,87 @@ use std::path::Path;
 use hocurve_mesh::HighOrderMesh;
 use hocurve_nodes::NodeFamily;
 
-/// Writes `mesh` in the format its file name asks for: `.vtu` (VTK Lagrange cells) or `.msh`
-/// (Gmsh MSH 4.1). Both formats define high-order elements on equispaced nodes, so a mesh
-/// built on another node family is first resampled (same geometry, equispaced nodes).
-pub fn write_mesh(path: &Path, mesh: &HighOrderMesh) -> Result<(), IoError> {
+/// The lower-case extension of `path`, if it is one of `known`.
+fn extension_of(path: &Path, known: &[&'static str]) -> Option<&'static str> {
     let extension = path
         .extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
-    if extension != "vtu" && extension != "msh" {
+    known.iter().copied().find(|k| *k == extension)
+}
+
+/// Writes `mesh` in the format its file name asks for: `.vtu` (VTK Lagrange cells) or `.msh`
+/// (Gmsh MSH 4.1). Both formats define high-order elements on equispaced nodes, so a mesh
+/// built on another node family is first resampled (same geometry, equispaced nodes).
+pub fn write_mesh(path: &Path, mesh: &HighOrderMesh) -> Result<(), IoError> {
+    write_mesh_with(path, mesh, &[], &[])
+}
+
+/// [`write_mesh`] with point data (given per node of `mesh`) and cell data: `.vtu` arrays
+/// (base64) or `.msh` `$NodeData` / `$ElementData` views (scalars and 3-vectors). When the
+/// mesh is resampled to equispaced nodes, its point data is resampled the same way
+/// ([`HighOrderMesh::resampled_point_values`]: each cell's Lagrange interpolant evaluated at
+/// the new nodes, like the coordinates); cell data is written as given.
+pub fn write_mesh_with(
+    path: &Path,
+    mesh: &HighOrderMesh,
+    point_data: &[DataArray],
+    cell_data: &[DataArray],
+) -> Result<(), IoError> {
+    let Some(extension) = extension_of(path, &["vtu", "msh"]) else {
         return Err(IoError::UnknownFormat {
             path: path.to_path_buf(),
         });
-    }
+    };
+    let as_mesh_error = |source| IoError::Mesh {
+        path: path.to_path_buf(),
+        source,
+    };
     let resampled;
-    let mesh = if mesh.family == NodeFamily::Equispaced {
-        mesh
+    let resampled_values: Vec<Vec<f64>>;
+    let resampled_arrays: Vec<DataArray>;
+    let (mesh, point_data) = if mesh.family == NodeFamily::Equispaced {
+        (mesh, point_data)
     } else {
         resampled = mesh
             .resampled(NodeFamily::Equispaced)
-            .map_err(|source| IoError::Mesh {
-                path: path.to_path_buf(),
-                source,
-            })?;
-        &resampled
+            .map_err(as_mesh_error)?;
+        resampled_values = point_data
+            .iter()
+            .map(|a| {
+                mesh.resampled_point_values(NodeFamily::Equispaced, a.components, a.values)
+                    .map_err(|source| IoError::Unsupported {
+                        path: path.to_path_buf(),
+                        message: format!("point data '{}': {source}", a.name),
+                    })
+            })
+            .collect::<Result<_, _>>()?;
+        resampled_arrays = point_data
+            .iter()
+            .zip(&resampled_values)
+            .map(|(a, values)| DataArray {
+                name: a.name,
+                components: a.components,
+                values,
+            })
+            .collect();
+        (&resampled, resampled_arrays.as_slice())
     };
     if extension == "vtu" {
-        write_vtu(path, mesh, &[], &[])
+        write_vtu(path, mesh, point_data, cell_data)
     } else {
-        write_msh(path, mesh)
+        write_msh_with(path, mesh, point_data, cell_data)
+    }
+}
+
+/// Reads a high-order mesh for quality assessment, in the format its extension names:
+/// `.msh` ([`read_high_order_msh`]) or `.vtu` ([`read_vtu`]).
+pub fn read_high_order_mesh(path: &Path) -> Result<HighOrderMesh, IoError> {
+    match extension_of(path, &["vtu", "msh"]) {
+        Some("msh") => read_high_order_msh(path),
+        Some(_) => read_vtu(path),
+        None => Err(IoError::UnknownInputFormat {
+            path: path.to_path_buf(),
+        }),
     }
 }

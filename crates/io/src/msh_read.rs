@@ -18,9 +18,13 @@
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::Path;
 
-use hocurve_mesh::{Element, ElementType, LinearMesh, PhysicalGroup};
+use hocurve_mesh::{
+    Element, ElementType, HighOrderElement, HighOrderMesh, LinearMesh, MeshError, PhysicalGroup,
+};
+use hocurve_nodes::NodeFamily;
 
 use crate::error::{IoError, Location};
+use crate::ordering::{gmsh_permutation, gmsh_type_shape};
 
 /// Reads a Gmsh mesh file (MSH 4.1 or 2.2, ASCII or binary).
 pub fn read_msh(path: &Path) -> Result<LinearMesh, IoError> {
@@ -213,6 +217,56 @@ fn parse_uint(t: &[u8]) -> Option<u64> {
 
 fn parse_float(t: &[u8]) -> Option<f64> {
     std::str::from_utf8(t).ok()?.parse().ok()
+}
+
+/// The element type of a block of elements: its type, order and number of nodes.
+#[derive(Debug, Clone, Copy)]
+struct BlockKind {
+    kind: ElementType,
+    order: usize,
+    nodes: usize,
+}
+
+impl BlockKind {
+    fn linear(kind: ElementType) -> Self {
+        BlockKind {
+            kind,
+            order: 1,
+            nodes: kind.num_vertices(),
+        }
+    }
+}
+
+/// What Gmsh element type `t` is for the high-order reader: a complete Lagrange element of
+/// any order Gmsh defines, a point (`None`), or an error saying why it cannot be read.
+fn high_order_kind(t: i64) -> Result<Option<BlockKind>, String> {
+    if t == 15 {
+        return Ok(None);
+    }
+    if let Some((shape, order)) = i32::try_from(t).ok().and_then(gmsh_type_shape) {
+        return Ok(Some(BlockKind {
+            kind: ElementType::from_shape(shape),
+            order,
+            nodes: shape.num_nodes(order),
+        }));
+    }
+    let pyramid = "pyramid elements are not supported; hocurve handles lines, triangles, \
+                   quadrilaterals, tetrahedra, hexahedra and prisms";
+    if t == 7 {
+        return Err(format!("element type 7 (5-node pyramid): {pyramid}"));
+    }
+    if let Some(&(_, shape, order, nodes)) = HIGH_ORDER.iter().find(|e| e.0 == t) {
+        let what = format!(
+            "element type {t} ({nodes}-node {} order {shape})",
+            ordinal(order)
+        );
+        return Err(if shape == "pyramid" {
+            format!("{what}: {pyramid}")
+        } else {
+            format!("{what}: incomplete (serendipity) elements are not supported (save complete elements: Mesh.SecondOrderIncomplete = 0)")
+        });
+    }
+    Err(describe_unsupported(t))
 }
 
 /// What Gmsh element type `t` is, as far as hocurve cares.
@@ -441,6 +495,18 @@ struct Parser<'a> {
     first_physical: HashMap<(usize, i32), i32>,
     last_triple: Option<(usize, i32, i32)>,
     dedup: Option<HashSet<DedupKey>>,
+    /// Read complete elements of any order (not only first-order ones).
+    high_order: bool,
+    /// High-order reader: tag, place and order of each element of `by_dim`.
+    element_records: [Vec<ElementRecord>; 4],
+}
+
+/// Where an element was read and of which order (high-order reader).
+#[derive(Debug, Clone, Copy)]
+struct ElementRecord {
+    tag: i128,
+    location: Location,
+    order: usize,
 }
 
 impl<'a> Parser<'a> {
@@ -474,6 +540,29 @@ impl<'a> Parser<'a> {
             first_physical: HashMap::new(),
             last_triple: None,
             dedup: None,
+            high_order: false,
+            element_records: Default::default(),
+        }
+    }
+
+    /// The element block kind of Gmsh type `t` for this reader.
+    fn block_kind(&self, t: i64) -> Result<Option<BlockKind>, String> {
+        if self.high_order {
+            high_order_kind(t)
+        } else {
+            element_kind(t).map(|k| k.map(BlockKind::linear))
+        }
+    }
+
+    /// Stores an element of dimension `dim` (and, for the high-order reader, its record).
+    fn push_element(&mut self, dim: usize, element: Element, record: ElementRecord) {
+        if let Some(list) = self.by_dim.get_mut(dim) {
+            list.push(element);
+            if self.high_order {
+                if let Some(records) = self.element_records.get_mut(dim) {
+                    records.push(record);
+                }
+            }
         }
     }
 
@@ -814,6 +903,12 @@ impl<'a> Parser<'a> {
     // ------------------------------------------------------------------ sections
 
     fn parse(mut self) -> R<LinearMesh> {
+        self.read_sections()?;
+        self.finish()
+    }
+
+    /// Reads every section of the file.
+    fn read_sections(&mut self) -> R<()> {
         match self.next_line() {
             None => {
                 return fail(
@@ -901,7 +996,7 @@ impl<'a> Parser<'a> {
                 _ => self.skip_section(name, loc)?,
             }
         }
-        self.finish()
+        Ok(())
     }
 
     fn mesh_format(&mut self) -> R<()> {
@@ -1252,18 +1347,20 @@ impl<'a> Parser<'a> {
             NodeIndex::Sparse(m)
         };
         self.nodes = Some(index);
-        self.node_tags = Vec::new();
+        if !self.high_order {
+            self.node_tags = Vec::new();
+        }
         Ok(())
     }
 
     /// Reads the node tags of one element and maps them to vertex indices.
     fn element_nodes(
         &mut self,
-        kind: Option<ElementType>,
+        kind: Option<BlockKind>,
         elem: i128,
         int_tags: bool,
     ) -> R<Vec<u32>> {
-        let (nn, name) = kind.map_or((1, "point"), |k| (k.num_vertices(), k.name()));
+        let (nn, name) = kind.map_or((1, "point"), |k| (k.nodes, k.kind.name()));
         if let Some(left) = self.tokens_left() {
             if left != nn {
                 let message =
@@ -1338,9 +1435,9 @@ impl<'a> Parser<'a> {
             let etype = self.int(|| format!("the element type of element block {b}"))?;
             let n = self.size(|| format!("the number of elements in block {b}"))?;
             self.end_record(|| format!("the header of element block {b}"))?;
-            let kind = element_kind(etype).or_else(|m| fail(block, m))?;
+            let kind = self.block_kind(etype).or_else(|m| fail(block, m))?;
             let (nn, dim, name) =
-                kind.map_or((1, 0, "point"), |k| (k.num_vertices(), k.dim(), k.name()));
+                kind.map_or((1, 0, "point"), |k| (k.nodes, k.kind.dim(), k.kind.name()));
             if edim != dim as i64 {
                 return fail(
                     block,
@@ -1354,16 +1451,23 @@ impl<'a> Parser<'a> {
             self.check_room(n, each, || format!("element block {b} of {n} elements"))?;
             for k in 1..=n {
                 self.begin(|| format!("element {k} of {n} in block {b}"))?;
+                let location = self.rec_location();
                 let tag = self.size(|| format!("the tag of element {k} of {n} in block {b}"))?;
                 let vertices = self.element_nodes(kind, i128::from(tag), false)?;
                 self.end_record(|| format!("element {tag}"))?;
                 *read += 1;
-                if let (Some(kind), Some(list)) = (kind, self.by_dim.get_mut(dim)) {
-                    list.push(Element {
-                        kind,
+                if let Some(kind) = kind {
+                    let element = Element {
+                        kind: kind.kind,
                         vertices,
                         entity,
-                    });
+                    };
+                    let record = ElementRecord {
+                        tag: i128::from(tag),
+                        location,
+                        order: kind.order,
+                    };
+                    self.push_element(dim, element, record);
                 }
             }
         }
@@ -1390,7 +1494,7 @@ impl<'a> Parser<'a> {
                 let etype = self.int(|| "the element type of an element block header".into())?;
                 let count = self.int(|| "the element count of an element block header".into())?;
                 let ntags = self.int(|| "the tag count of an element block header".into())?;
-                let kind = element_kind(etype).or_else(|m| fail(at, m))?;
+                let kind = self.block_kind(etype).or_else(|m| fail(at, m))?;
                 let left = n - *read;
                 let count = match u64::try_from(count) {
                     Ok(c) if c >= 1 && c <= left => c,
@@ -1410,11 +1514,12 @@ impl<'a> Parser<'a> {
                         format!("expected a non-negative tag count, found {ntags}"),
                     );
                 };
-                let nn = kind.map_or(1, |k| k.num_vertices()) as u64;
+                let nn = kind.map_or(1, |k| k.nodes) as u64;
                 let each = 4u64.saturating_mul(1 + ntags.saturating_add(nn));
                 self.check_room(count, each, || format!("element block of {count} elements"))?;
                 for _ in 0..count {
                     let tag = self.int(|| "an element number".into())?;
+                    self.rec_loc = Location::Byte(self.field_at as u64);
                     self.element_v2(kind, tag, ntags)?;
                     *read += 1;
                 }
@@ -1432,7 +1537,7 @@ impl<'a> Parser<'a> {
                 self.begin_text(|| format!("element {} of {n}", i + 1))?;
                 let tag = self.int(|| format!("the number of element {} of {n}", i + 1))?;
                 let etype = self.int(|| format!("the type of element {tag}"))?;
-                let kind = element_kind(etype).or_else(|m| fail(self.rec_loc, m))?;
+                let kind = self.block_kind(etype).or_else(|m| fail(self.rec_loc, m))?;
                 let ntags = self.int(|| format!("the number of tags of element {tag}"))?;
                 let Ok(ntags) = u64::try_from(ntags) else {
                     return fail(
@@ -1453,7 +1558,8 @@ impl<'a> Parser<'a> {
     }
 
     /// The tags and nodes of one MSH 2 element (after its number, type and tag count).
-    fn element_v2(&mut self, kind: Option<ElementType>, tag: i64, ntags: u64) -> R<()> {
+    fn element_v2(&mut self, kind: Option<BlockKind>, tag: i64, ntags: u64) -> R<()> {
+        let location = self.rec_loc;
         let mut physical = 0;
         let mut entity = 0;
         for j in 0..ntags {
@@ -1465,7 +1571,7 @@ impl<'a> Parser<'a> {
             }
         }
         let vertices = self.element_nodes(kind, i128::from(tag), true)?;
-        let dim = kind.map_or(0, |k| k.dim());
+        let dim = kind.map_or(0, |k| k.kind.dim());
         let triple = (dim, entity, physical);
         if self.last_triple != Some(triple) {
             self.last_triple = Some(triple);
@@ -1494,17 +1600,21 @@ impl<'a> Parser<'a> {
             return Ok(());
         };
         if let Some(set) = &mut self.dedup {
-            if !set.insert(dedup_key(kind, entity, &vertices)) {
+            if !set.insert(dedup_key(kind.kind, entity, &vertices)) {
                 return Ok(());
             }
         }
-        if let Some(list) = self.by_dim.get_mut(dim) {
-            list.push(Element {
-                kind,
-                vertices,
-                entity,
-            });
-        }
+        let element = Element {
+            kind: kind.kind,
+            vertices,
+            entity,
+        };
+        let record = ElementRecord {
+            tag: i128::from(tag),
+            location,
+            order: kind.order,
+        };
+        self.push_element(dim, element, record);
         Ok(())
     }
 
@@ -1534,29 +1644,243 @@ impl<'a> Parser<'a> {
             .get_mut(dim - 1)
             .map(std::mem::take)
             .unwrap_or_default();
-        let mut groups: BTreeMap<(usize, i32), String> = BTreeMap::new();
-        for g in self.names {
-            groups.entry((g.dim, g.tag)).or_insert(g.name);
-        }
-        for (&(d, _), tags) in &self.entity_physicals {
-            for &t in tags {
-                groups.entry((d, t)).or_default();
-            }
-        }
         Ok(LinearMesh {
             dim,
             vertices: self.vertices,
             cells,
             facets,
-            physical_groups: groups
-                .into_iter()
-                .map(|((dim, tag), name)| PhysicalGroup { dim, tag, name })
-                .collect(),
+            physical_groups: physical_groups(self.names, &self.entity_physicals),
             entity_physicals: self.entity_physicals,
         })
     }
+
+    /// The high-order reader's result: cells of the top dimension (3 if the file has
+    /// volume elements, else 2), facets one dimension lower, all of one order, their nodes
+    /// in Gmsh's order.
+    fn finish_high_order(mut self) -> R<GmshElements> {
+        if self.nodes.is_none() {
+            return fail(Location::EndOfFile, "the file has no $Nodes section");
+        }
+        if !self.have_elements {
+            return fail(Location::EndOfFile, "the file has no $Elements section");
+        }
+        let Some(dim) = [3, 2]
+            .into_iter()
+            .find(|&d| self.by_dim.get(d).is_some_and(|l| !l.is_empty()))
+        else {
+            return fail(
+                Location::EndOfFile,
+                "the file has no surface or volume elements (hocurve meshes are 2D or 3D)",
+            );
+        };
+        let mut take = |d: usize| {
+            let elements = self
+                .by_dim
+                .get_mut(d)
+                .map(std::mem::take)
+                .unwrap_or_default();
+            let records = self
+                .element_records
+                .get_mut(d)
+                .map(std::mem::take)
+                .unwrap_or_default();
+            (elements, records)
+        };
+        let (cells, cell_records) = take(dim);
+        let (facets, facet_records) = take(dim - 1);
+        let Some(first) = cell_records.first().copied() else {
+            return fail(Location::EndOfFile, "the file has no cells");
+        };
+        for r in cell_records.iter().chain(&facet_records) {
+            if r.order != first.order {
+                return fail(
+                    r.location,
+                    format!(
+                        "mixed element orders: element {} is of order {} but element {} ({}) \
+                         is of order {}; a hocurve mesh has a single order",
+                        r.tag, r.order, first.tag, first.location, first.order
+                    ),
+                );
+            }
+        }
+        Ok(GmshElements {
+            dim,
+            order: first.order,
+            physical_groups: physical_groups(self.names, &self.entity_physicals),
+            entity_physicals: self.entity_physicals,
+            nodes: self.vertices,
+            node_tags: self.node_tags,
+            cells,
+            cell_records,
+            facets,
+            facet_records,
+        })
+    }
+}
+
+/// Physical groups: the named ones plus every physical tag used but not named.
+fn physical_groups(
+    names: Vec<PhysicalGroup>,
+    entity_physicals: &BTreeMap<(usize, i32), Vec<i32>>,
+) -> Vec<PhysicalGroup> {
+    let mut groups: BTreeMap<(usize, i32), String> = BTreeMap::new();
+    for g in names {
+        groups.entry((g.dim, g.tag)).or_insert(g.name);
+    }
+    for (&(d, _), tags) in entity_physicals {
+        for &t in tags {
+            groups.entry((d, t)).or_default();
+        }
+    }
+    groups
+        .into_iter()
+        .map(|((dim, tag), name)| PhysicalGroup { dim, tag, name })
+        .collect()
+}
+
+/// What the high-order reader collected, before renumbering.
+struct GmshElements {
+    dim: usize,
+    order: usize,
+    physical_groups: Vec<PhysicalGroup>,
+    entity_physicals: BTreeMap<(usize, i32), Vec<i32>>,
+    /// All nodes, in file order.
+    nodes: Vec<[f64; 3]>,
+    /// Their tags.
+    node_tags: Vec<u64>,
+    /// Elements with all their nodes (indices into `nodes`) in Gmsh's order.
+    cells: Vec<Element>,
+    cell_records: Vec<ElementRecord>,
+    facets: Vec<Element>,
+    facet_records: Vec<ElementRecord>,
+}
+
+/// Reads a Gmsh mesh of complete Lagrange elements of any order (MSH 4.1 or 2.2, ASCII or
+/// binary, as written by [`crate::write_msh`] or by Gmsh) for quality assessment.
+///
+/// - Elements: lines, triangles, quadrilaterals, tetrahedra, hexahedra and prisms, complete
+///   (Gmsh types `MSH_LIN_2` … `MSH_LIN_11`, `MSH_TRI_3` … `MSH_TRI_66`, `MSH_QUA_4` …
+///   `MSH_QUA_121`, `MSH_TET_4` … `MSH_TET_286`, `MSH_HEX_8` … `MSH_HEX_1000`, `MSH_PRI_6` …
+///   `MSH_PRI_550`: orders 1 to 10, 9 for hexahedra and prisms), their nodes renumbered
+///   from Gmsh's order into hocurve's canonical order ([`crate::ordering`]) on
+///   [`NodeFamily::Equispaced`] reference nodes.
+/// - Cells: the elements of the top dimension, 3 if there are volume elements, else 2 (2D
+///   meshes are expected in the plane z = 0). Facets: the elements one dimension lower
+///   whose corners are a face (3D) or edge (2D) of the cells; the others, and all
+///   lower-dimensional elements and points, are ignored (a [`HighOrderMesh`] holds only
+///   cells and their facets).
+/// - Errors, naming the file and the line (byte in binary files) or element: elements of
+///   different orders, incomplete (serendipity) elements such as Gmsh types 16 (8-node
+///   quadrilateral), 17 (20-node hexahedron) and 18 (15-node prism), pyramids, unknown
+///   types, missing nodes, elements that do not share their edge and face nodes.
+///
+/// Nodes are renumbered as by [`HighOrderMesh::from_cells`] (vertices first; nodes no cell
+/// uses are dropped); cells and facets keep their order in the file.
+pub fn read_high_order_msh(path: &Path) -> Result<HighOrderMesh, IoError> {
+    let bytes = std::fs::read(path).map_err(|source| IoError::Os {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    parse_high_order_msh(&bytes, path)
+}
+
+/// [`read_high_order_msh`] from bytes already in memory; `path` only names the file in
+/// errors.
+pub fn parse_high_order_msh(bytes: &[u8], path: &Path) -> Result<HighOrderMesh, IoError> {
+    let malformed = |location: Location, message: String| IoError::Malformed {
+        path: path.to_path_buf(),
+        location,
+        message,
+    };
+    let mut parser = Parser::new(bytes);
+    parser.high_order = true;
+    let raw = parser
+        .read_sections()
+        .and_then(|()| parser.finish_high_order())
+        .map_err(|e| malformed(e.location, e.message))?;
+    let p = raw.order;
+    let mut permutations: HashMap<ElementType, Vec<usize>> = HashMap::new();
+    let mut canonical = |list: &[Element]| -> Result<Vec<HighOrderElement>, MeshError> {
+        list.iter()
+            .map(|e| {
+                let perm = match permutations.entry(e.kind) {
+                    std::collections::hash_map::Entry::Occupied(o) => o.into_mut(),
+                    std::collections::hash_map::Entry::Vacant(v) => {
+                        v.insert(gmsh_permutation(e.kind.shape()?, p))
+                    }
+                };
+                let mut nodes = vec![0; e.vertices.len()];
+                for (&k, &n) in perm.iter().zip(&e.vertices) {
+                    nodes[k] = n;
+                }
+                Ok(HighOrderElement {
+                    kind: e.kind,
+                    nodes,
+                    entity: e.entity,
+                })
+            })
+            .collect()
+    };
+    let as_mesh_error = |source| IoError::Mesh {
+        path: path.to_path_buf(),
+        source,
+    };
+    let cells = canonical(&raw.cells).map_err(as_mesh_error)?;
+    let facets = canonical(&raw.facets).map_err(as_mesh_error)?;
+    let built = HighOrderMesh::from_cells(
+        raw.dim,
+        p,
+        NodeFamily::Equispaced,
+        &raw.nodes,
+        &cells,
+        &facets,
+    );
+    let mut mesh = built.map_err(|source| {
+        // Name the element and nodes as the file does.
+        let node_tag = |i: usize| raw.node_tags.get(i).copied().unwrap_or(i as u64);
+        let records = |what: &str| {
+            if what == "cell" {
+                &raw.cell_records
+            } else {
+                &raw.facet_records
+            }
+        };
+        match source {
+            MeshError::NonConformingNode {
+                what,
+                index,
+                node,
+                other,
+                ..
+            } => match records(what).get(index) {
+                Some(r) => malformed(
+                    r.location,
+                    format!(
+                        "element {} has node {} where a neighbouring element has node {} at a \
+                         different position: the elements do not share their edge or face nodes",
+                        r.tag,
+                        node_tag(node),
+                        node_tag(other)
+                    ),
+                ),
+                None => as_mesh_error(source),
+            },
+            MeshError::RepeatedVertex { what, index, .. } => match records(what).get(index) {
+                Some(r) => malformed(r.location, format!("element {}: {source}", r.tag)),
+                None => as_mesh_error(source),
+            },
+            other => as_mesh_error(other),
+        }
+    })?;
+    mesh.physical_groups = raw.physical_groups;
+    mesh.entity_physicals = raw.entity_physicals;
+    Ok(mesh)
 }
 
 #[cfg(test)]
 #[path = "tests/msh_read.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "tests/msh_read_high_order.rs"]
+mod high_order_tests;

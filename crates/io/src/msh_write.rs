@@ -15,8 +15,12 @@
 //! - `$Elements`: facets then cells, in their order in the mesh, one block per run of
 //!   consecutive elements with the same entity and type; element tags 1, 2, ….
 //!
-//! Coordinates are written in Rust's shortest round-trip form (`{:?}`), so reading the file
-//! back gives bitwise the same values. Same input, same bytes.
+//! - `$NodeData` / `$ElementData` ([`write_msh_with`]): one view per data array (scalar or
+//!   3-vector; string tag its name, real tag time 0, integer tags time step 0, the number
+//!   of components and of values), values per node tag and per cell's element tag.
+//!
+//! Coordinates and data are written in Rust's shortest round-trip form (`{:?}`), so reading
+//! the file back gives bitwise the same values. Same input, same bytes.
 
 use std::collections::BTreeMap;
 use std::io::Write;
@@ -27,7 +31,8 @@ use hocurve_nodes::Shape;
 
 use crate::atomic::write_atomically;
 use crate::ordering::{gmsh_element_type, gmsh_max_order, gmsh_permutation};
-use crate::IoError;
+use crate::vtu_write::check_arrays;
+use crate::{DataArray, IoError};
 
 /// Writes `mesh` to `path` as a Gmsh MSH 4.1 ASCII file with complete order-p elements.
 ///
@@ -36,6 +41,20 @@ use crate::IoError;
 /// tetrahedra, 9 for hexahedra and prisms), when an element's node count or node ids are
 /// inconsistent, when a coordinate is not finite or a physical name cannot be quoted.
 pub fn write_msh(path: &Path, mesh: &HighOrderMesh) -> Result<(), IoError> {
+    write_msh_with(path, mesh, &[], &[])
+}
+
+/// [`write_msh`] with nodal and cell data: each point-data array (`components` ∈ {1, 3}
+/// values per node of `mesh`) becomes a `$NodeData` view, each cell-data array (per cell)
+/// an `$ElementData` view over the cells' element tags (facets get none). Arrays are
+/// checked like [`crate::write_vtu_with`]'s (length, distinct non-empty names, finite
+/// values) before the file is touched; names must not hold a quote or a line break.
+pub fn write_msh_with(
+    path: &Path,
+    mesh: &HighOrderMesh,
+    point_data: &[DataArray],
+    cell_data: &[DataArray],
+) -> Result<(), IoError> {
     let bad = |message: String| IoError::Unsupported {
         path: path.to_path_buf(),
         message,
@@ -48,11 +67,29 @@ pub fn write_msh(path: &Path, mesh: &HighOrderMesh) -> Result<(), IoError> {
         )));
     }
     let plan = Plan::new(mesh).map_err(bad)?;
+    check_arrays("point", point_data, mesh.nodes.len()).map_err(bad)?;
+    check_arrays("cell", cell_data, mesh.cells.len()).map_err(bad)?;
+    for a in point_data.iter().chain(cell_data) {
+        if a.components != 1 && a.components != 3 {
+            return Err(bad(format!(
+                "data '{}' has {} components; Gmsh views hold scalars (1) or vectors (3)",
+                a.name, a.components
+            )));
+        }
+        if a.name.contains('"') || a.name.contains('\n') || a.name.contains('\r') {
+            return Err(bad(format!(
+                "data name {:?} has a quote or line break, which MSH cannot store",
+                a.name
+            )));
+        }
+    }
     write_atomically(path, |w| {
-        plan.write(w, mesh).map_err(|source| IoError::Os {
-            path: path.to_path_buf(),
-            source,
-        })
+        plan.write(w, mesh)
+            .and_then(|()| plan.write_data(w, mesh, point_data, cell_data))
+            .map_err(|source| IoError::Os {
+                path: path.to_path_buf(),
+                source,
+            })
     })
 }
 
@@ -301,6 +338,36 @@ impl<'a> Plan<'a> {
             }
         }
         writeln!(w, "$EndElements")?;
+        Ok(())
+    }
+
+    /// The `$NodeData` and `$ElementData` views (arrays already checked).
+    fn write_data<W: Write>(
+        &self,
+        w: &mut W,
+        mesh: &HighOrderMesh,
+        point_data: &[DataArray],
+        cell_data: &[DataArray],
+    ) -> std::io::Result<()> {
+        // Element tags: facets 1..=F, then cells F+1.. (the order of `write`).
+        let first_cell_tag = mesh.facets.len() + 1;
+        for (section, arrays, count, first_tag) in [
+            ("NodeData", point_data, mesh.nodes.len(), 1),
+            ("ElementData", cell_data, mesh.cells.len(), first_cell_tag),
+        ] {
+            for a in arrays {
+                writeln!(w, "${section}\n1\n\"{}\"\n1\n0\n3\n0", a.name)?;
+                writeln!(w, "{}\n{count}", a.components)?;
+                for (i, tuple) in a.values.chunks(a.components).enumerate() {
+                    write!(w, "{}", first_tag + i)?;
+                    for v in tuple {
+                        write!(w, " {v:?}")?;
+                    }
+                    writeln!(w)?;
+                }
+                writeln!(w, "$End{section}")?;
+            }
+        }
         Ok(())
     }
 }

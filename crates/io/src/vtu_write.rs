@@ -140,7 +140,7 @@ fn check_mesh(mesh: &HighOrderMesh) -> Result<Vec<Shape>, String> {
     Ok(shapes)
 }
 
-fn check_arrays(kind: &str, arrays: &[DataArray], count: usize) -> Result<(), String> {
+pub(crate) fn check_arrays(kind: &str, arrays: &[DataArray], count: usize) -> Result<(), String> {
     for (i, a) in arrays.iter().enumerate() {
         if a.name.is_empty() {
             return Err(format!("{kind} data array {i} has an empty name"));

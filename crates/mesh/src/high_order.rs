@@ -83,6 +83,17 @@ impl HighOrderMesh {
     ) -> Result<Self, MeshError> {
         mesh.validate()?;
         mesh.check_orientation()?;
+        Self::straight_sided(mesh, order, family)
+    }
+
+    /// [`HighOrderMesh::from_linear`] without the orientation check, for a validated `mesh`
+    /// (used by [`HighOrderMesh::from_cells`], which must accept tangled meshes read back
+    /// for quality assessment).
+    pub(crate) fn straight_sided(
+        mesh: &LinearMesh,
+        order: usize,
+        family: NodeFamily,
+    ) -> Result<Self, MeshError> {
         family.check_order(order)?;
         let topology = Topology::new(mesh)?;
         let p = order;

@@ -22,10 +22,13 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+mod boundary;
 mod element;
+mod from_cells;
 mod high_order;
 mod jagged;
 mod linear;
+mod resample;
 mod topology;
 
 pub use element::ElementType;
@@ -127,4 +130,60 @@ pub enum MeshError {
     /// The nodal set could not be built.
     #[error(transparent)]
     Nodes(#[from] hocurve_nodes::NodesError),
+    /// A high-order element whose node count is not that of the complete element of its
+    /// shape at the mesh's order.
+    #[error("{what} {index} is a {kind} with {found} nodes, expected {expected} (complete order-{order} element)")]
+    WrongNodeCount {
+        /// "cell" or "facet".
+        what: &'static str,
+        /// Element index.
+        index: usize,
+        /// Its type.
+        kind: ElementType,
+        /// Mesh order.
+        order: usize,
+        /// Nodes of the complete element.
+        expected: usize,
+        /// Nodes given.
+        found: usize,
+    },
+    /// A node id outside the node list.
+    #[error("{what} {index} references node {node}, but the mesh has {count} nodes")]
+    NodeOutOfRange {
+        /// "cell" or "facet".
+        what: &'static str,
+        /// Element index.
+        index: usize,
+        /// The bad node id.
+        node: usize,
+        /// Number of nodes.
+        count: usize,
+    },
+    /// Two elements put different nodes (at different coordinates) at the same place of a
+    /// shared edge or face: the mesh is not conforming.
+    #[error("{what} {index} has node {node} (local node {local}) where a neighbouring cell has node {other} at a different position: the elements do not share their edge or face nodes")]
+    NonConformingNode {
+        /// "cell" or "facet".
+        what: &'static str,
+        /// Element index.
+        index: usize,
+        /// Local (canonical) node index in that element.
+        local: usize,
+        /// The element's node id.
+        node: usize,
+        /// The node id the neighbour uses there.
+        other: usize,
+    },
+    /// A nodal data array whose length is not a multiple of the node count.
+    #[error("nodal data has {found} values, expected {expected} ({components} components × {nodes} nodes)")]
+    DataLength {
+        /// Values per node.
+        components: usize,
+        /// Number of nodes.
+        nodes: usize,
+        /// components × nodes.
+        expected: usize,
+        /// Values given.
+        found: usize,
+    },
 }

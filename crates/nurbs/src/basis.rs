@@ -143,10 +143,31 @@ pub fn basis_function_derivatives(
     knots: &[f64],
     ders: &mut [[f64; MAX_ORDER]],
 ) {
+    // The table is (p+1)²: small work buffers for the usual low degrees, because zeroing
+    // the MAX_ORDER² table dominated the cost of a surface evaluation.
+    if degree < SMALL_ORDER {
+        derivatives_table::<SMALL_ORDER>(span, u, degree, n_derivs, knots, ders)
+    } else {
+        derivatives_table::<MAX_ORDER>(span, u, degree, n_derivs, knots, ders)
+    }
+}
+
+/// Buffer length for degrees below it (cubic and quintic NURBS, conics).
+const SMALL_ORDER: usize = 8;
+
+/// A2.3 with work buffers of length `N` (> degree).
+fn derivatives_table<const N: usize>(
+    span: usize,
+    u: f64,
+    degree: usize,
+    n_derivs: usize,
+    knots: &[f64],
+    ders: &mut [[f64; MAX_ORDER]],
+) {
     let p = degree;
-    let mut left = [0.0; MAX_ORDER];
-    let mut right = [0.0; MAX_ORDER];
-    let mut ndu = [[0.0; MAX_ORDER]; MAX_ORDER];
+    let mut left = [0.0; N];
+    let mut right = [0.0; N];
+    let mut ndu = [[0.0; N]; N];
     ndu[0][0] = 1.0;
     for j in 1..=p {
         left[j] = u - knots[span + 1 - j];
@@ -162,13 +183,13 @@ pub fn basis_function_derivatives(
         ndu[j][j] = saved;
     }
     for row in ders.iter_mut().take(n_derivs + 1) {
-        row.iter_mut().for_each(|d| *d = 0.0);
+        row[..=p].iter_mut().for_each(|d| *d = 0.0);
     }
     for j in 0..=p {
         ders[0][j] = ndu[j][p];
     }
     let n = n_derivs.min(p);
-    let mut a = [[0.0; MAX_ORDER]; 2];
+    let mut a = [[0.0; N]; 2];
     for r in 0..=p {
         let (mut s1, mut s2) = (0, 1);
         a[0][0] = 1.0;

@@ -144,3 +144,186 @@ fn high_order_elements_use_gmsh_types_and_order() {
         .collect();
     assert!(text.contains(&format!("\n{}\n", line.join(" "))), "{text}");
 }
+
+/// The (tag, values) lines of the `index`-th `$<section>` view of a file, and its name.
+fn view(text: &str, section: &str, index: usize) -> (String, usize, Vec<(usize, Vec<f64>)>) {
+    let start = text
+        .match_indices(&format!("${section}\n"))
+        .nth(index)
+        .expect("view present")
+        .0;
+    let body = &text[start..];
+    let lines: Vec<&str> = body.lines().collect();
+    // $Section, 1, "name", 1, time, 3, step, components, count, values…
+    let name = lines[2].trim_matches('"').to_string();
+    assert_eq!(&lines[3..7], &["1", "0", "3", "0"]);
+    let components: usize = lines[7].parse().unwrap();
+    let count: usize = lines[8].parse().unwrap();
+    let values = lines[9..9 + count]
+        .iter()
+        .map(|l| {
+            let mut it = l.split(' ');
+            let tag = it.next().unwrap().parse().unwrap();
+            (tag, it.map(|v| v.parse().unwrap()).collect())
+        })
+        .collect();
+    assert_eq!(lines[9 + count], format!("$End{section}"));
+    (name, components, values)
+}
+
+#[test]
+fn node_and_element_data_views_follow_the_node_and_element_tags() {
+    let dir = tempfile::tempdir().unwrap();
+    let linear = crate::test_meshes::two_cells(hocurve_nodes::Shape::Tri);
+    let mesh = crate::test_meshes::curved(&linear, 2);
+    let temperature: Vec<f64> = mesh.nodes.iter().map(|x| 1.0 + x[0] * 0.1).collect();
+    let velocity = [1.0, 2.0, 3.0, -4.0, 0.5, 1e-300];
+    let path = dir.path().join("data.msh");
+    write_msh_with(
+        &path,
+        &mesh,
+        &[DataArray {
+            name: "T",
+            components: 1,
+            values: &temperature,
+        }],
+        &[DataArray {
+            name: "velocity",
+            components: 3,
+            values: &velocity,
+        }],
+    )
+    .unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (name, components, values) = view(&text, "NodeData", 0);
+    assert_eq!(
+        (name.as_str(), components, values.len()),
+        ("T", 1, mesh.nodes.len())
+    );
+    for (i, (tag, v)) in values.iter().enumerate() {
+        assert_eq!((*tag, v.as_slice()), (i + 1, &[temperature[i]][..]));
+    }
+    let (name, components, values) = view(&text, "ElementData", 0);
+    assert_eq!((name.as_str(), components), ("velocity", 3));
+    // Two facets are written first (tags 1, 2): the cells are elements 3 and 4.
+    assert_eq!(
+        values,
+        vec![(3, vec![1.0, 2.0, 3.0]), (4, vec![-4.0, 0.5, 1e-300])]
+    );
+    // The data sections do not disturb the readers.
+    let back = crate::read_high_order_msh(&path).unwrap();
+    assert_eq!(back.nodes.len(), mesh.nodes.len());
+    // write_msh is write_msh_with without data.
+    let plain = dir.path().join("plain.msh");
+    write_msh(&plain, &mesh).unwrap();
+    let plain = std::fs::read_to_string(&plain).unwrap();
+    assert!(text.starts_with(&plain) && !plain.contains("$NodeData"));
+}
+
+#[test]
+fn write_mesh_with_resamples_point_data_like_the_nodes() {
+    use hocurve_mesh::HighOrderMesh;
+    let dir = tempfile::tempdir().unwrap();
+    let linear = crate::test_meshes::hybrid(3);
+    let f = |x: [f64; 3]| 0.5 + 2.0 * x[0] - x[1] + 0.25 * x[2];
+    for p in [2, 4] {
+        let mut mesh = HighOrderMesh::from_linear(&linear, p, NodeFamily::Fekete).unwrap();
+        for x in &mut mesh.nodes {
+            *x = [
+                x[0] + 0.05 * (2.0 * x[1]).sin(),
+                x[1] + 0.03 * x[0] * x[2],
+                x[2],
+            ];
+        }
+        let values: Vec<f64> = mesh.nodes.iter().map(|&x| f(x)).collect();
+        let cell_values = [7.0, 8.0];
+        let path = dir.path().join("fekete.msh");
+        let point = [DataArray {
+            name: "f",
+            components: 1,
+            values: &values,
+        }];
+        let cell = [DataArray {
+            name: "c",
+            components: 1,
+            values: &cell_values,
+        }];
+        crate::write_mesh_with(&path, &mesh, &point, &cell).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        let back = crate::read_high_order_msh(&path).unwrap();
+        let (_, _, written) = view(&text, "NodeData", 0);
+        assert_eq!(written.len(), back.nodes.len());
+        for (tag, v) in &written {
+            // Our files number nodes 1..N in mesh order, which the reader keeps.
+            let x = back.nodes[tag - 1];
+            assert!(
+                (v[0] - f(x)).abs() < 1e-12,
+                "p={p} node {tag}: {} vs {}",
+                v[0],
+                f(x)
+            );
+        }
+        let (_, _, written) = view(&text, "ElementData", 0);
+        assert_eq!(
+            written.iter().map(|(_, v)| v[0]).collect::<Vec<_>>(),
+            cell_values
+        );
+        crate::write_mesh_with(&dir.path().join("fekete.vtu"), &mesh, &point, &cell).unwrap();
+    }
+}
+
+#[test]
+fn unsupported_data_is_refused_before_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let mesh = crate::test_meshes::curved(
+        &crate::test_meshes::two_cells(hocurve_nodes::Shape::Quad),
+        1,
+    );
+    let path = dir.path().join("bad.msh");
+    let two = vec![0.0; 2 * mesh.nodes.len()];
+    let err = write_msh_with(
+        &path,
+        &mesh,
+        &[DataArray {
+            name: "uv",
+            components: 2,
+            values: &two,
+        }],
+        &[],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("scalars (1) or vectors (3)"), "{err}");
+    let one = vec![0.0; mesh.nodes.len()];
+    let err = write_msh_with(
+        &path,
+        &mesh,
+        &[DataArray {
+            name: "a\"b",
+            components: 1,
+            values: &one,
+        }],
+        &[],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("quote"), "{err}");
+    let err = write_msh_with(
+        &path,
+        &mesh,
+        &[],
+        &[DataArray {
+            name: "c",
+            components: 1,
+            values: &one,
+        }],
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("expected 2"), "{err}");
+    assert!(!path.exists());
+    let err = crate::write_mesh_with(&dir.path().join("x.txt"), &mesh, &[], &[]).unwrap_err();
+    assert!(matches!(err, IoError::UnknownFormat { .. }));
+    let err = crate::read_high_order_mesh(&dir.path().join("x.txt")).unwrap_err();
+    assert!(matches!(err, IoError::UnknownInputFormat { .. }), "{err}");
+}

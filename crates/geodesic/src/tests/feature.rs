@@ -1,0 +1,240 @@
+//! Feature edges: the rim of a cylinder standing on a plane (a circle) and on a slanted plane
+//! (an ellipse), placed by arc length along the intersection.
+
+use std::collections::BTreeMap;
+use std::f64::consts::PI;
+
+use super::*;
+use crate::vector::{norm, sub};
+use crate::{
+    associate_boundary, place_boundary_nodes_with, AssociationRule, BoundaryNodeStrategy,
+    BoundaryTargets, PlacementOptions,
+};
+use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
+use hocurve_nodes::{gauss_legendre, NodeFamily, Shape};
+use hocurve_nurbs::shapes::{circle, cylinder, AnalyticShape};
+use hocurve_nurbs::{GeometricEntity, NurbsSurface};
+
+/// The plane z = slope · x as a bilinear patch over [−2, 2]².
+fn plane(slope: f64) -> NurbsSurface {
+    let corner = |x: f64, y: f64| [x, y, slope * x];
+    NurbsSurface::new(
+        1,
+        1,
+        vec![0.0, 0.0, 1.0, 1.0],
+        vec![0.0, 0.0, 1.0, 1.0],
+        vec![
+            corner(-2.0, -2.0),
+            corner(-2.0, 2.0),
+            corner(2.0, -2.0),
+            corner(2.0, 2.0),
+        ],
+        vec![1.0; 4],
+    )
+    .expect("plane")
+}
+
+/// The unit cylinder about z between z = −2 and 2, and the plane z = slope · x; with the rim
+/// circle as a curve entity when `with_rim` (only meaningful for slope 0).
+fn model(slope: f64, with_rim: bool) -> GeometryModel {
+    let mut cyl = GeometricEntity::new(
+        "cylinder",
+        "test",
+        EntityGeometry::Surface(
+            cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0, (-2.0, 2.0)).expect("cyl"),
+        ),
+    );
+    cyl.analytic = Some(AnalyticShape::new_cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("cyl"));
+    let mut entities = vec![
+        cyl,
+        GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane(slope))),
+    ];
+    if with_rim {
+        let mut rim = GeometricEntity::new(
+            "rim",
+            "test",
+            EntityGeometry::Curve(circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("circle")),
+        );
+        rim.analytic = Some(AnalyticShape::new_circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("c"));
+        entities.push(rim);
+    }
+    GeometryModel { entities }
+}
+
+/// A can of `n` prisms about the z axis: bottom triangles on the plane z = slope · x
+/// ("plane"), side quads on the cylinder ("cylinder"), top at z = 1.5 (left straight).
+/// Vertices: 0 bottom centre, 1..=n the rim, n+1..=2n the top ring, 2n+1 the top centre.
+fn can(n: usize, slope: f64) -> LinearMesh {
+    let mut vertices = vec![[0.0; 3]];
+    let angle = |i: usize| 2.0 * PI * i as f64 / n as f64;
+    for i in 0..n {
+        let (s, c) = angle(i).sin_cos();
+        vertices.push([c, s, slope * c]);
+    }
+    for i in 0..n {
+        let (s, c) = angle(i).sin_cos();
+        vertices.push([c, s, 1.5]);
+    }
+    vertices.push([0.0, 0.0, 1.5]);
+    let rim = |i: usize| (1 + i % n) as u32;
+    let top = |i: usize| (1 + n + i % n) as u32;
+    let centre_top = (2 * n + 1) as u32;
+    let mut cells = vec![];
+    let mut facets = vec![];
+    for i in 0..n {
+        cells.push(Element {
+            kind: ElementType::Prism,
+            vertices: vec![0, rim(i), rim(i + 1), centre_top, top(i), top(i + 1)],
+            entity: 1,
+        });
+        facets.push(Element {
+            kind: ElementType::Tri,
+            vertices: vec![0, rim(i + 1), rim(i)],
+            entity: 1,
+        });
+        facets.push(Element {
+            kind: ElementType::Quad,
+            vertices: vec![rim(i), rim(i + 1), top(i + 1), top(i)],
+            entity: 2,
+        });
+    }
+    let mut entity_physicals = BTreeMap::new();
+    entity_physicals.insert((2, 1), vec![1]);
+    entity_physicals.insert((2, 2), vec![2]);
+    LinearMesh {
+        dim: 3,
+        vertices,
+        cells,
+        facets,
+        physical_groups: vec![
+            PhysicalGroup {
+                dim: 2,
+                tag: 1,
+                name: "plane".into(),
+            },
+            PhysicalGroup {
+                dim: 2,
+                tag: 2,
+                name: "cylinder".into(),
+            },
+        ],
+        entity_physicals,
+    }
+}
+
+/// Length of the rim z = slope · x on the unit cylinder from angle a to angle b.
+fn rim_length(slope: f64, a: f64, b: f64) -> f64 {
+    let rule = gauss_legendre(20);
+    let pieces = 16;
+    let h = (b - a) / pieces as f64;
+    let mut sum = 0.0;
+    for k in 0..pieces {
+        let (lo, hi) = (a + k as f64 * h, a + (k + 1) as f64 * h);
+        for (&x, &w) in rule.points.iter().zip(&rule.weights) {
+            let t = 0.5 * (lo + hi) + 0.5 * (hi - lo) * x;
+            let ds = (1.0 + (slope * t.sin()).powi(2)).sqrt();
+            sum += 0.5 * (hi - lo) * w * ds;
+        }
+    }
+    sum
+}
+
+/// For every rim edge: the largest distance of its nodes from the cylinder and the plane,
+/// and the largest error of their arc-length fractions against the reference distribution.
+fn check_rim(mesh: &HighOrderMesh, t: &BoundaryTargets, n: usize, slope: f64) -> (f64, f64) {
+    let p = mesh.order;
+    let line: Vec<f64> = mesh
+        .family
+        .interior_nodes(Shape::Line, p)
+        .iter()
+        .map(|(x, _)| x[0])
+        .collect();
+    let (mut off, mut fraction_error): (f64, f64) = (0.0, 0.0);
+    for i in 0..n {
+        let (u, v) = ((1 + i) as u32, (1 + (i + 1) % n) as u32);
+        let (a, b) = (u.min(v), u.max(v));
+        let e = mesh.topology.find_edge(a, b).expect("rim edge");
+        let first = mesh.layout.edge_first_node(e, p) as u32;
+        let angle_of = |x: [f64; 3]| x[1].atan2(x[0]);
+        let (ta, mut tb) = (angle_of(t.targets[&a]), angle_of(t.targets[&b]));
+        // The short way from a to b.
+        if tb - ta > PI {
+            tb -= 2.0 * PI;
+        } else if ta - tb > PI {
+            tb += 2.0 * PI;
+        }
+        let total = rim_length(slope, ta, tb);
+        for (k, &xi) in line.iter().enumerate() {
+            let x = t.targets[&(first + k as u32)];
+            off = off
+                .max(((x[0] * x[0] + x[1] * x[1]).sqrt() - 1.0).abs())
+                .max((x[2] - slope * x[0]).abs());
+            let mut tx = angle_of(x);
+            while tx - ta > PI {
+                tx -= 2.0 * PI;
+            }
+            while ta - tx > PI {
+                tx += 2.0 * PI;
+            }
+            fraction_error = fraction_error.max((rim_length(slope, ta, tx) / total - xi).abs());
+        }
+    }
+    (off, fraction_error)
+}
+
+#[test]
+fn rim_nodes_lie_on_both_surfaces_at_the_arc_length_fractions() {
+    let n = 8;
+    for (slope, with_rim) in [(0.0, false), (0.0, true), (0.5, false)] {
+        let linear = can(n, slope);
+        let geometry = model(slope, with_rim);
+        let assoc = associate_boundary(&linear, &geometry, AssociationRule::NameOnly, Some(1e-9))
+            .expect("associates");
+        assert_eq!(assoc.unassociated, 0);
+        for family in [NodeFamily::GaussLobatto, NodeFamily::Equispaced] {
+            for p in [2, 4, 5] {
+                let mesh = HighOrderMesh::from_linear(&linear, p, family).expect("mesh");
+                let t = place_boundary_nodes_with(
+                    &mesh,
+                    &geometry,
+                    &assoc,
+                    &PlacementOptions::new(BoundaryNodeStrategy::Geodesic),
+                )
+                .expect("placed");
+                if with_rim {
+                    assert_eq!((t.feature_edges_on_curves, t.feature_edges_traced), (n, 0));
+                } else {
+                    assert_eq!((t.feature_edges_on_curves, t.feature_edges_traced), (0, n));
+                }
+                let (off, fraction_error) = check_rim(&mesh, &t, n, slope);
+                println!(
+                    "slope {slope}, rim curve {with_rim}, {family:?} p = {p}: off {off:.1e}, fractions {fraction_error:.1e}"
+                );
+                assert!(off < 1e-12, "{off}");
+                assert!(fraction_error < 1e-8, "{fraction_error}");
+                assert!(t.max_geometry_distance < 1e-12);
+                assert_eq!(t.corrected_edges, 0);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_traced_circle_has_the_exact_length() {
+    let geometry = model(0.0, false);
+    let (a, b) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+    let curve = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);
+    assert!(
+        (curve.length() - 0.5 * PI).abs() < 1e-14,
+        "{}",
+        curve.length() - 0.5 * PI
+    );
+    // Tangents at the ends: along the circle.
+    let start = curve.end_tangent(false).expect("tangent");
+    let end = curve.end_tangent(true).expect("tangent");
+    assert!(norm(sub(start, [0.0, 1.0, 0.0])) < 1e-6, "{start:?}");
+    assert!(norm(sub(end, [1.0, 0.0, 0.0])) < 1e-6, "{end:?}");
+    // The foot point of a point off the rim is the radial one.
+    let x = foot_on_intersection(&geometry, &[0, 1], [0.3, 0.4, 0.2]);
+    assert!(norm(sub(x, [0.6, 0.8, 0.0])) < 1e-14, "{x:?}");
+}

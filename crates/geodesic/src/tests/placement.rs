@@ -1,0 +1,160 @@
+//! Options, shared edge nodes and the minimum-angle report on the bundled fixtures.
+
+use super::*;
+use crate::tests::{fixture, sphere_model};
+use crate::{associate_boundary, AssociationRule};
+use hocurve_nodes::NodeFamily;
+
+/// The NACA0012 fixture's geometry (the JSON description beside the mesh).
+fn naca_model() -> GeometryModel {
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+    hocurve_nurbs::read_geometry_json(&root.join("naca0012/naca0012.json")).expect("json")
+}
+
+#[test]
+fn corrected_edges_are_reported_on_the_fixtures() {
+    for (name, model) in [
+        ("sphere/sphere.msh", sphere_model("sphere", 1.0)),
+        ("naca0012/naca0012.msh", naca_model()),
+    ] {
+        let linear = fixture(name);
+        let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
+        for p in [2, 3, 4, 5] {
+            let mesh = HighOrderMesh::from_linear(&linear, p, NodeFamily::Fekete).unwrap();
+            let t =
+                place_boundary_nodes_with(&mesh, &model, &a, &PlacementOptions::default()).unwrap();
+            println!(
+                "{name} p = {p}: {} small-angle edges, {} corrected, min angle {:?}°, max distance {:.1e}",
+                t.small_angle_edges, t.corrected_edges, t.min_edge_angle_degrees, t.max_geometry_distance
+            );
+            // Gmsh's sphere mesh has no angle below ~25°; 2D boundary edges lie on their
+            // curves and are neither measured nor corrected.
+            assert_eq!((t.small_angle_edges, t.corrected_edges), (0, 0));
+            assert!(t.max_geometry_distance < 1e-13);
+            if linear.dim == 3 {
+                let min = t.min_edge_angle_degrees.expect("measured");
+                assert!(min > 20.0 && min < 30.0, "{min}");
+            } else {
+                assert_eq!(t.min_edge_angle_degrees, None);
+            }
+        }
+    }
+}
+
+#[test]
+fn edge_nodes_are_computed_once_and_agree_with_either_orientation() {
+    let linear = fixture("sphere/sphere.msh");
+    let model = sphere_model("sphere", 1.0);
+    let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
+    let p = 4;
+    let mesh = HighOrderMesh::from_linear(&linear, p, NodeFamily::Fekete).unwrap();
+    let options = PlacementOptions::default();
+    let t = place_boundary_nodes_with(&mesh, &model, &a, &options).unwrap();
+    // With no small angle on this mesh, switching the correction off changes nothing.
+    assert_eq!(t.corrected_edges, 0);
+    let off = place_boundary_nodes_with(&mesh, &model, &a, &options.clone().with_min_angle(None))
+        .unwrap();
+    assert_eq!(off.targets, t.targets);
+
+    let line: Vec<f64> = mesh
+        .family
+        .interior_nodes(Shape::Line, p)
+        .iter()
+        .map(|(x, _)| x[0])
+        .collect();
+    // Each edge's interior node ids as seen from each curved facet, from the facet's first
+    // vertex of the edge to its second (ordered by the reference position along the edge).
+    let reference = ReferenceNodes::new(Shape::Tri, p, mesh.family);
+    let mut seen: BTreeMap<[u32; 2], Vec<(u32, Vec<u32>)>> = BTreeMap::new();
+    for (facet, entity) in mesh.facets.iter().zip(&a.facet_entity) {
+        if entity.is_none() {
+            continue;
+        }
+        for (edge, &[i, j]) in Shape::Tri.edges().iter().enumerate() {
+            let vi = Shape::Tri.vertices()[i];
+            let mut ids: Vec<(f64, u32)> = facet
+                .nodes
+                .iter()
+                .zip(reference.points().iter().zip(reference.entities()))
+                .filter(|(_, (_, e))| matches!(e, NodeEntity::Edge { edge: k, .. } if *k == edge))
+                .map(|(n, (xi, _))| (distance(vi, *xi), *n))
+                .collect();
+            ids.sort_by(|x, y| x.0.total_cmp(&y.0));
+            let (u, v) = (facet.nodes[i], facet.nodes[j]);
+            seen.entry([u.min(v), u.max(v)])
+                .or_default()
+                .push((u, ids.into_iter().map(|x| x.1).collect()));
+        }
+    }
+    let mut worst: f64 = 0.0;
+    for (key, views) in &seen {
+        assert_eq!(
+            views.len(),
+            2,
+            "edge {key:?}: a closed surface has two faces per edge"
+        );
+        // The two faces run the edge in opposite directions and list the same nodes.
+        let (first, second) = (&views[0], &views[1]);
+        assert_ne!(first.0, second.0);
+        let mut reversed = second.1.clone();
+        reversed.reverse();
+        assert_eq!(first.1, reversed);
+        // The mesh numbers them from the lower vertex, at the reference 1D distribution.
+        let e = mesh.topology.find_edge(key[0], key[1]).unwrap();
+        let from_lower: Vec<u32> = (0..p as u32 - 1)
+            .map(|k| mesh.layout.edge_first_node(e, p) as u32 + k)
+            .collect();
+        let seen_from_lower = if first.0 == key[0] {
+            &first.1
+        } else {
+            &second.1
+        };
+        assert_eq!(seen_from_lower, &from_lower);
+        // An independent recomputation of the edge from either end gives the same points.
+        for (from, to) in [(key[0], key[1]), (key[1], key[0])] {
+            let carrier = edge_carrier(&model, &a, [from, to], &[0], 1e-12).unwrap();
+            for (k, &f) in line.iter().enumerate() {
+                let n = if from < to {
+                    from_lower[k]
+                } else {
+                    from_lower[p - 2 - k]
+                };
+                let x = carrier.at(f).1;
+                worst = worst.max(distance(x, t.targets[&n]));
+            }
+        }
+    }
+    println!(
+        "{} edges; recomputed edge nodes differ by at most {worst:.1e}",
+        seen.len()
+    );
+    assert!(worst < 1e-14, "{worst}");
+}
+
+#[test]
+fn out_of_range_options_are_errors() {
+    let linear = fixture("naca0012/naca0012.msh");
+    let model = naca_model();
+    let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
+    let mesh = HighOrderMesh::from_linear(&linear, 3, NodeFamily::Fekete).unwrap();
+    for bad in [-1.0, 90.0, f64::NAN] {
+        let options = PlacementOptions::default().with_min_angle(Some(bad));
+        let err = place_boundary_nodes_with(&mesh, &model, &a, &options).unwrap_err();
+        assert!(matches!(
+            err,
+            GeodesicError::InvalidOption {
+                option: "min_angle_degrees",
+                ..
+            }
+        ));
+    }
+    let options = PlacementOptions {
+        feature_length_tolerance: 0.0,
+        ..PlacementOptions::default()
+    };
+    assert!(place_boundary_nodes_with(&mesh, &model, &a, &options).is_err());
+    // The default entry point is the default options.
+    let plain = place_boundary_nodes(&mesh, &model, &a, BoundaryNodeStrategy::Geodesic).unwrap();
+    let with = place_boundary_nodes_with(&mesh, &model, &a, &PlacementOptions::default()).unwrap();
+    assert_eq!(plain, with);
+}

@@ -1,0 +1,582 @@
+//! The whole method, end to end: a linear mesh and a geometry in, a curved order-p mesh,
+//! its quality and a report out. The steps are the paper's (Sect. 3–4):
+//!
+//! 1. [`HighOrderMesh::from_linear`] places the order-p nodes on the straight elements;
+//! 2. [`associate_boundary`] ties boundary facets to geometry entities;
+//! 3. [`place_boundary_nodes_with`] puts their nodes on the true curves/surfaces (arc length,
+//!    geodesics, Eqs. (4)–(7));
+//! 4. [`solve_displacement`] carries the boundary displacement into the domain by linear
+//!    elasticity (Sect. 3.2), with curved nodes prescribed, `slide` groups sliding in their
+//!    plane and every other boundary node fixed;
+//! 5. [`assess`] measures the scaled Jacobian (Eq. (8)) and stretching.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::time::Instant;
+
+use hocurve_elastic::{
+    solve_displacement, BoundaryConditions, ElasticError, Material, SolverKind, SolverOptions,
+};
+use hocurve_geodesic::{
+    associate_boundary, place_boundary_nodes_with, AssociationRule, GeodesicError,
+    PlacementOptions,
+};
+use hocurve_mesh::{HighOrderMesh, LinearMesh, MeshError};
+use hocurve_nodes::{NodeFamily, NodesError};
+use hocurve_nurbs::GeometryModel;
+use hocurve_quality::{assess, MeshQuality, QualityError, QualityOptions};
+use serde::Serialize;
+
+/// Errors of the curving pipeline: one step's error, or a problem with the request.
+#[derive(Debug, thiserror::Error)]
+pub enum CurveError {
+    /// Building the high-order mesh failed.
+    #[error(transparent)]
+    Mesh(#[from] MeshError),
+    /// Reference nodes could not be built.
+    #[error(transparent)]
+    Nodes(#[from] NodesError),
+    /// Associating the boundary or placing its nodes failed.
+    #[error(transparent)]
+    Geodesic(#[from] GeodesicError),
+    /// The elastic solve failed.
+    #[error(transparent)]
+    Elastic(#[from] ElasticError),
+    /// Measuring quality failed.
+    #[error(transparent)]
+    Quality(#[from] QualityError),
+    /// No boundary facet lies on the geometry.
+    #[error("no boundary facet lies on the geometry (tolerance {tolerance:.3e}): name physical groups like the geometry's entities, or check units and the geometry tolerance")]
+    NothingOnGeometry {
+        /// The association tolerance used.
+        tolerance: f64,
+    },
+    /// A `slide` group is not among the mesh's boundary groups.
+    #[error("--slide {name}: no boundary physical group of that name (the mesh has: {available})")]
+    UnknownSlideGroup {
+        /// The requested group.
+        name: String,
+        /// The names the mesh has.
+        available: String,
+    },
+    /// A `slide` group is not planar (straight in 2D), so it has no single sliding normal.
+    #[error("--slide {name}: the group is not planar (a vertex is {distance:.3e} off its best plane)")]
+    SlideGroupNotPlanar {
+        /// The group.
+        name: String,
+        /// Largest distance of a vertex from the plane.
+        distance: f64,
+    },
+    /// The elastic solve stopped before the residual fell below the tolerance.
+    #[error("the elastic solve did not converge: relative residual {residual:.3e} > {tolerance:.1e} after {iterations} iterations")]
+    NotConverged {
+        /// Relative residual reached.
+        residual: f64,
+        /// Tolerance asked.
+        tolerance: f64,
+        /// Iterations done.
+        iterations: usize,
+    },
+}
+
+/// A geometry to curve onto and how boundary facets find their entities.
+#[derive(Debug, Clone, Copy)]
+pub struct Geometry<'a> {
+    /// The curves and surfaces.
+    pub model: &'a GeometryModel,
+    /// By physical-group name only (JSON), or by name then proximity (IGES).
+    pub rule: AssociationRule,
+}
+
+/// What to build and how.
+#[derive(Debug, Clone)]
+pub struct CurveOptions {
+    /// Polynomial order p.
+    pub order: usize,
+    /// Nodal distribution of the reference elements.
+    pub family: NodeFamily,
+    /// Where boundary nodes go (geodesic or projection) and the minimum-angle correction.
+    pub placement: PlacementOptions,
+    /// Largest distance of a boundary vertex from its entity (None: 1e-4 × bbox diagonal).
+    pub geometry_tolerance: Option<f64>,
+    /// The elastic analogy's material.
+    pub material: Material,
+    /// Linear solver settings.
+    pub solver: SolverOptions,
+    /// Boundary physical groups whose nodes slide in their plane (u·n = 0).
+    pub slide: Vec<String>,
+    /// Move only the boundary nodes (no elastic solve).
+    pub boundary_only: bool,
+    /// What the quality assessment samples.
+    pub quality: QualityOptions,
+}
+
+impl CurveOptions {
+    /// The defaults of the `hocurve curve` command at order `order`: Fekete nodes, geodesic
+    /// placement with the 10° minimum-angle correction, E = 10, ν = 0.4, automatic solver.
+    pub fn new(order: usize) -> Self {
+        CurveOptions {
+            order,
+            family: NodeFamily::Fekete,
+            placement: PlacementOptions::default(),
+            geometry_tolerance: None,
+            material: Material::default(),
+            solver: SolverOptions::default(),
+            slide: Vec::new(),
+            boundary_only: false,
+            quality: QualityOptions::default(),
+        }
+    }
+}
+
+/// A step of the pipeline, announced to the progress callback before it runs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Step {
+    /// Placing the order-p nodes on the straight elements.
+    HighOrderNodes,
+    /// Associating boundary facets with geometry entities.
+    Association,
+    /// Placing boundary nodes on the geometry.
+    BoundaryNodes,
+    /// Assembling and solving the elasticity problem.
+    Elasticity,
+    /// Measuring the curved mesh.
+    Quality,
+}
+
+impl Step {
+    /// What the step does, for progress messages.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Step::HighOrderNodes => "placing high-order nodes",
+            Step::Association => "associating the boundary with the geometry",
+            Step::BoundaryNodes => "placing boundary nodes on the geometry",
+            Step::Elasticity => "solving linear elasticity",
+            Step::Quality => "measuring quality",
+        }
+    }
+}
+
+/// Seconds spent per step (0 for steps not run). `read` and `write` are the caller's.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct StepTimings {
+    /// Reading the input files.
+    pub read: f64,
+    /// Placing the straight order-p nodes.
+    pub high_order_nodes: f64,
+    /// Boundary association.
+    pub association: f64,
+    /// Boundary node placement.
+    pub boundary_nodes: f64,
+    /// Stiffness assembly.
+    pub assembly: f64,
+    /// Linear solve (including preconditioner setup).
+    pub solve: f64,
+    /// Quality assessment.
+    pub quality: f64,
+    /// Writing the output.
+    pub write: f64,
+    /// Wall time of everything above.
+    pub total: f64,
+}
+
+/// The machine-readable account of one curving run (`hocurve curve --report`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CurveReport {
+    /// Polynomial order p.
+    pub order: usize,
+    /// Nodal distribution (`fekete`, `gll`, ...).
+    pub node_family: String,
+    /// Number of cells.
+    pub elements: usize,
+    /// Number of nodes of the high-order mesh.
+    pub nodes: usize,
+    /// Unknowns of the elastic system after condensation (0 without a solve).
+    pub dofs: usize,
+    /// Boundary facets placed on the geometry.
+    pub curved_facets: usize,
+    /// Boundary facets associated with an entity by physical-group name.
+    pub facets_by_name: usize,
+    /// Boundary facets associated with an entity by proximity (IGES).
+    pub facets_by_proximity: usize,
+    /// Boundary facets on no entity (kept straight, fixed).
+    pub facets_straight: usize,
+    /// Association tolerance used (largest vertex distance from its entity).
+    pub geometry_tolerance: f64,
+    /// Largest distance a boundary vertex was moved to lie on the geometry.
+    pub max_vertex_move: f64,
+    /// Boundary nodes given a target on the geometry.
+    pub boundary_nodes_on_geometry: usize,
+    /// Largest distance of a boundary node from its geometry entity.
+    pub max_geometry_distance: f64,
+    /// Curved surface edges meeting a neighbour below the minimum angle.
+    pub small_angle_edges: usize,
+    /// Of those, edges rebuilt by the Hermite-type correction (Fig. 4).
+    pub corrected_edges: usize,
+    /// Smallest angle (degrees) between neighbouring curved surface edges, before the
+    /// correction (None when not measured: 2D, projection, p ≤ 1, correction off).
+    pub min_edge_angle_degrees: Option<f64>,
+    /// Nodes sliding in a plane (`--slide`).
+    pub sliding_nodes: usize,
+    /// Solver used: `direct`, `cg` or `none`.
+    pub solver: String,
+    /// CG iterations (0 for the direct solver).
+    pub iterations: usize,
+    /// Relative residual ‖f − Ku‖ / ‖f‖ of the solve (0 without a solve).
+    pub residual: f64,
+    /// Smallest scaled Jacobian Ĩ (None for an empty mesh).
+    pub min_scaled_jacobian: Option<f64>,
+    /// Elements with Ĩ ≤ 0.
+    pub invalid_elements: usize,
+    /// Fraction (0–1) of elements with Ĩ > 0.95.
+    pub fraction_above_0_95: f64,
+    /// Elements with Ĩ < 0.5.
+    pub elements_below_0_5: usize,
+    /// Largest stretching (longest / shortest edge).
+    pub max_stretching: Option<f64>,
+    /// Seconds per step.
+    pub timings: StepTimings,
+}
+
+/// A curved mesh with what was measured on the way.
+#[derive(Debug, Clone)]
+pub struct CurvedMesh {
+    /// The curved order-p mesh.
+    pub mesh: HighOrderMesh,
+    /// Displacement of every node from its straight-sided position.
+    pub displacement: Vec<[f64; 3]>,
+    /// Per-element quality and its summary.
+    pub quality: MeshQuality,
+    /// The report.
+    pub report: CurveReport,
+}
+
+/// Curves `linear` to order `options.order` onto `geometry` (None: straight-sided), calling
+/// `progress` before each step.
+pub fn curve_mesh(
+    linear: &LinearMesh,
+    geometry: Option<Geometry>,
+    options: &CurveOptions,
+    progress: &mut dyn FnMut(Step),
+) -> Result<CurvedMesh, CurveError> {
+    let start = Instant::now();
+    let mut timings = StepTimings::default();
+    progress(Step::HighOrderNodes);
+    let t = Instant::now();
+    let mut mesh = HighOrderMesh::from_linear(linear, options.order, options.family)?;
+    let straight = mesh.nodes.clone();
+    timings.high_order_nodes = t.elapsed().as_secs_f64();
+
+    let mut curved_facets = 0;
+    let mut associated = (0, 0, 0, 0.0, 0.0);
+    let mut on_geometry = 0;
+    let mut max_geometry_distance = 0.0;
+    let mut angles = (0, 0, None);
+    let mut sliding_nodes = 0;
+    let mut solve_info = (String::from("none"), 0, 0, 0.0);
+    if let Some(geometry) = geometry {
+        progress(Step::Association);
+        let t = Instant::now();
+        let association = associate_boundary(
+            linear,
+            geometry.model,
+            geometry.rule,
+            options.geometry_tolerance,
+        )?;
+        timings.association = t.elapsed().as_secs_f64();
+        associated = (
+            association.by_name,
+            association.by_proximity,
+            association.unassociated,
+            association.tolerance,
+            association.max_vertex_move,
+        );
+        if association.by_name + association.by_proximity == 0 {
+            return Err(CurveError::NothingOnGeometry {
+                tolerance: association.tolerance,
+            });
+        }
+        progress(Step::BoundaryNodes);
+        let t = Instant::now();
+        let targets =
+            place_boundary_nodes_with(&mesh, geometry.model, &association, &options.placement)?;
+        timings.boundary_nodes = t.elapsed().as_secs_f64();
+        curved_facets = targets.curved_facets;
+        on_geometry = targets.targets.len();
+        max_geometry_distance = targets.max_geometry_distance;
+        angles = (
+            targets.small_angle_edges,
+            targets.corrected_edges,
+            targets.min_edge_angle_degrees,
+        );
+
+        if !options.boundary_only {
+            progress(Step::Elasticity);
+            let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
+            sliding_nodes = bc.sliding.len();
+            let solution = solve_displacement(&mesh, &options.material, &bc, &options.solver)?;
+            if !(solution.relative_residual <= options.solver.tolerance.max(1e-8)) {
+                return Err(CurveError::NotConverged {
+                    residual: solution.relative_residual,
+                    tolerance: options.solver.tolerance,
+                    iterations: solution.iterations,
+                });
+            }
+            timings.assembly = solution.timings.assembly;
+            timings.solve = solution.timings.solve;
+            for (x, u) in mesh.nodes.iter_mut().zip(&solution.displacement) {
+                for d in 0..3 {
+                    x[d] += u[d];
+                }
+            }
+            let solver = match solution.solver_used {
+                SolverKind::Direct => "direct",
+                SolverKind::Cg => "cg",
+                SolverKind::Auto => "auto",
+            };
+            solve_info = (
+                solver.to_string(),
+                solution.iterations,
+                solution.dofs,
+                solution.relative_residual,
+            );
+        }
+        // Boundary nodes exactly on their targets, not up to the solver's round-off.
+        for (&n, &x) in &targets.targets {
+            mesh.nodes[n as usize] = x;
+        }
+    }
+
+    progress(Step::Quality);
+    let t = Instant::now();
+    let quality = assess(&mesh, &options.quality)?;
+    timings.quality = t.elapsed().as_secs_f64();
+    timings.total = start.elapsed().as_secs_f64();
+
+    let displacement = mesh
+        .nodes
+        .iter()
+        .zip(&straight)
+        .map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]])
+        .collect();
+    let summary = &quality.summary;
+    let report = CurveReport {
+        order: options.order,
+        node_family: options.family.to_string(),
+        elements: mesh.cells.len(),
+        nodes: mesh.nodes.len(),
+        dofs: solve_info.2,
+        curved_facets,
+        facets_by_name: associated.0,
+        facets_by_proximity: associated.1,
+        facets_straight: associated.2,
+        geometry_tolerance: associated.3,
+        max_vertex_move: associated.4,
+        boundary_nodes_on_geometry: on_geometry,
+        max_geometry_distance,
+        small_angle_edges: angles.0,
+        corrected_edges: angles.1,
+        min_edge_angle_degrees: angles.2,
+        sliding_nodes,
+        solver: solve_info.0,
+        iterations: solve_info.1,
+        residual: solve_info.3,
+        min_scaled_jacobian: summary.min_scaled_jacobian,
+        invalid_elements: summary.invalid_elements,
+        fraction_above_0_95: summary.fraction_above_0_95,
+        elements_below_0_5: summary.elements_below_0_5,
+        max_stretching: summary.max_stretching,
+        timings,
+    };
+    Ok(CurvedMesh {
+        mesh,
+        displacement,
+        quality,
+        report,
+    })
+}
+
+/// The Dirichlet and sliding data of the elastic analogy: nodes with a target on the
+/// geometry move to it; nodes of `slide` groups slide in the group's plane; every other
+/// boundary node is fixed. Precedence: curved target, then fixed (a node shared by a sliding
+/// and a fixed facet, or by two sliding planes, stays put), then sliding.
+fn boundary_conditions(
+    mesh: &HighOrderMesh,
+    targets: &BTreeMap<u32, [f64; 3]>,
+    slide: &[String],
+) -> Result<BoundaryConditions, CurveError> {
+    // Topology facet → sliding normal, per requested group.
+    let mut slide_normal: BTreeMap<usize, [f64; 3]> = BTreeMap::new();
+    for name in slide {
+        let facets = group_facets(mesh, name)?;
+        let normal = plane_normal(mesh, name, &facets)?;
+        for f in facets {
+            slide_normal.insert(mesh.facet_ids[f] as usize, normal);
+        }
+    }
+    let mut fixed = BTreeSet::new();
+    let mut sliding: BTreeMap<u32, [f64; 3]> = BTreeMap::new();
+    for (facet, nodes) in mesh.boundary_facet_nodes()? {
+        match slide_normal.get(&facet) {
+            None => fixed.extend(nodes),
+            Some(normal) => {
+                for n in nodes {
+                    match sliding.get(&n) {
+                        Some(m) if !parallel(m, normal) => {
+                            fixed.insert(n);
+                        }
+                        _ => {
+                            sliding.insert(n, *normal);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    let mut bc = BoundaryConditions::default();
+    for n in fixed {
+        bc.prescribed.insert(n, [0.0; 3]);
+    }
+    for (&n, &x) in targets {
+        let x0 = mesh.nodes[n as usize];
+        bc.prescribed
+            .insert(n, [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]]);
+    }
+    bc.sliding = sliding
+        .into_iter()
+        .filter(|(n, _)| !bc.prescribed.contains_key(n))
+        .collect();
+    Ok(bc)
+}
+
+fn parallel(a: &[f64; 3], b: &[f64; 3]) -> bool {
+    let c = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    let norm = |v: &[f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    norm(&c) <= 1e-10 * norm(a) * norm(b)
+}
+
+/// Indices into `mesh.facets` of the boundary group `name` (dimension dim − 1).
+fn group_facets(mesh: &HighOrderMesh, name: &str) -> Result<Vec<usize>, CurveError> {
+    let facet_dim = mesh.dim - 1;
+    let tags: Vec<i32> = mesh
+        .physical_groups
+        .iter()
+        .filter(|g| g.dim == facet_dim && g.name == name)
+        .map(|g| g.tag)
+        .collect();
+    let facets: Vec<usize> = mesh
+        .facets
+        .iter()
+        .enumerate()
+        .filter(|(_, f)| {
+            mesh.entity_physicals
+                .get(&(facet_dim, f.entity))
+                .is_some_and(|p| p.iter().any(|t| tags.contains(t)))
+        })
+        .map(|(i, _)| i)
+        .collect();
+    if facets.is_empty() {
+        let available: Vec<&str> = mesh
+            .physical_groups
+            .iter()
+            .filter(|g| g.dim == facet_dim)
+            .map(|g| g.name.as_str())
+            .collect();
+        return Err(CurveError::UnknownSlideGroup {
+            name: name.to_string(),
+            available: if available.is_empty() {
+                "no named boundary groups".to_string()
+            } else {
+                available.join(", ")
+            },
+        });
+    }
+    Ok(facets)
+}
+
+/// The unit normal of the plane (line in 2D) through the vertices of `facets`, checked.
+fn plane_normal(mesh: &HighOrderMesh, name: &str, facets: &[usize]) -> Result<[f64; 3], CurveError> {
+    let vertices: BTreeSet<u32> = facets
+        .iter()
+        .flat_map(|&f| {
+            let facet = &mesh.facets[f];
+            let corners = facet.kind.num_vertices();
+            facet.nodes[..corners].to_vec()
+        })
+        .collect();
+    let points: Vec<[f64; 3]> = vertices.iter().map(|&v| mesh.nodes[v as usize]).collect();
+    let count = points.len() as f64;
+    let mut centre = [0.0; 3];
+    for p in &points {
+        for d in 0..3 {
+            centre[d] += p[d] / count;
+        }
+    }
+    // Summed facet normals: area-weighted in 3D (cross products of corner fans), edge
+    // normals in 2D.
+    let mut normal = [0.0; 3];
+    for &f in facets {
+        let facet = &mesh.facets[f];
+        let corners = facet.kind.num_vertices();
+        let x: Vec<[f64; 3]> = facet.nodes[..corners]
+            .iter()
+            .map(|&n| mesh.nodes[n as usize])
+            .collect();
+        if mesh.dim == 2 {
+            let t = [x[1][0] - x[0][0], x[1][1] - x[0][1]];
+            // Orientation-free: make the normal point the same way as the running sum.
+            let n = [t[1], -t[0], 0.0];
+            let sign = if n[0] * normal[0] + n[1] * normal[1] < 0.0 { -1.0 } else { 1.0 };
+            normal[0] += sign * n[0];
+            normal[1] += sign * n[1];
+        } else {
+            for k in 1..corners - 1 {
+                let a = sub(x[k], x[0]);
+                let b = sub(x[k + 1], x[0]);
+                let n = [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ];
+                let sign = if dot(n, normal) < 0.0 { -1.0 } else { 1.0 };
+                for d in 0..3 {
+                    normal[d] += sign * n[d];
+                }
+            }
+        }
+    }
+    let length = dot(normal, normal).sqrt();
+    let size = points
+        .iter()
+        .map(|p| dot(sub(*p, centre), sub(*p, centre)).sqrt())
+        .fold(0.0, f64::max);
+    if !(length > 0.0) {
+        return Err(CurveError::SlideGroupNotPlanar {
+            name: name.to_string(),
+            distance: f64::NAN,
+        });
+    }
+    let normal = normal.map(|v| v / length);
+    let distance = points
+        .iter()
+        .map(|p| dot(sub(*p, centre), normal).abs())
+        .fold(0.0, f64::max);
+    if distance > 1e-8 * size.max(f64::MIN_POSITIVE) {
+        return Err(CurveError::SlideGroupNotPlanar {
+            name: name.to_string(),
+            distance,
+        });
+    }
+    Ok(normal)
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}

@@ -1,0 +1,285 @@
+//! The whole method end to end (issue [5/7]): the bundled sphere and NACA0012 cases curved
+//! by linear elasticity, sliding planes, and the errors a user must get instead of a mesh.
+//!
+//! The sphere at p = 3..5 is expensive in the test profile; those cases are `#[ignore]`d
+//! here and run in release by `cargo xtask verify` (`cargo test --release -- --ignored`).
+
+use std::collections::BTreeMap;
+
+use hocurve::demo::Demo;
+use hocurve::elastic::{
+    solve_displacement, BoundaryConditions, ElasticError, Material, SolverOptions,
+};
+use hocurve::geodesic::AssociationRule;
+use hocurve::interpolation::{domain_measure, unit_square_mesh};
+use hocurve::mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
+use hocurve::nodes::NodeFamily;
+use hocurve::nurbs::parse_geometry_json;
+use hocurve::pipeline::{curve_mesh, CurveError, CurveOptions, CurvedMesh, Geometry};
+
+fn curve_demo(demo: Demo, order: usize) -> CurvedMesh {
+    let linear = demo.mesh().unwrap();
+    let (model, rule) = demo.geometry().unwrap();
+    let geometry = Geometry {
+        model: &model,
+        rule,
+    };
+    curve_mesh(&linear, Some(geometry), &CurveOptions::new(order), &mut |_| {}).unwrap()
+}
+
+/// Nodes of the declared facets in the physical group `name`.
+fn group_nodes(mesh: &HighOrderMesh, name: &str) -> Vec<u32> {
+    let dim = mesh.dim - 1;
+    let tag = mesh
+        .physical_groups
+        .iter()
+        .find(|g| g.dim == dim && g.name == name)
+        .unwrap()
+        .tag;
+    let mut nodes: Vec<u32> = mesh
+        .facets
+        .iter()
+        .filter(|f| mesh.entity_physicals[&(dim, f.entity)].contains(&tag))
+        .flat_map(|f| f.nodes.clone())
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
+/// Boundary nodes on the unit sphere to 1e-12, no invalid element, and the error of the
+/// domain volume against 216 − 4π/3.
+fn check_sphere(order: usize) -> f64 {
+    let curved = curve_demo(Demo::Sphere, order);
+    let mesh = &curved.mesh;
+    let on_sphere = group_nodes(mesh, "sphere");
+    assert!(!on_sphere.is_empty());
+    for n in on_sphere {
+        let x = mesh.nodes[n as usize];
+        let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+        assert!((r - 1.0).abs() < 1e-12, "p = {order}: node {n} at radius {r}");
+    }
+    assert_eq!(curved.report.invalid_elements, 0, "p = {order}");
+    assert!(curved.report.residual <= 1e-8);
+    let exact = 216.0 - 4.0 * std::f64::consts::PI / 3.0;
+    let error = (domain_measure(mesh).unwrap() - exact).abs();
+    println!(
+        "sphere p = {order}: volume error {error:.3e}, min scaled Jacobian {:?}",
+        curved.report.min_scaled_jacobian
+    );
+    error
+}
+
+#[test]
+fn sphere_at_p2_lies_on_the_sphere_with_no_invalid_element() {
+    let error = check_sphere(2);
+    // Quadratic facets: O(h⁴)-accurate volume (h ≈ 0.2 on the sphere) but far from exact.
+    assert!(error < 1e-3, "{error}");
+}
+
+#[test]
+#[ignore = "expensive in the test profile: run in release by cargo xtask verify"]
+fn sphere_volume_error_falls_with_p_and_is_below_1e_6_at_p4() {
+    let errors: Vec<f64> = (2..=5).map(check_sphere).collect();
+    for w in errors.windows(2) {
+        assert!(w[1] < w[0], "volume errors p = 2..5: {errors:?}");
+    }
+    assert!(errors[2] < 1e-6, "p = 4 volume error {}", errors[2]);
+}
+
+#[test]
+fn naca0012_at_p5_has_the_formula_node_count_and_min_scaled_jacobian_above_0_8() {
+    let linear = Demo::Naca0012.mesh().unwrap();
+    let curved = curve_demo(Demo::Naca0012, 5);
+    let (v, f) = (linear.vertices.len(), linear.cells.len());
+    // Euler for a disc with one hole (the airfoil): V − E + F = 0.
+    let e = v + f;
+    let p = 5;
+    assert_eq!(curved.report.nodes, v + e * (p - 1) + f * (p - 1) * (p - 2) / 2);
+    assert_eq!(curved.report.invalid_elements, 0);
+    let min = curved.report.min_scaled_jacobian.unwrap();
+    assert!(min >= 0.8, "min scaled Jacobian {min}");
+    assert!(curved.report.max_geometry_distance < 1e-10);
+    // The far-field circle and the airfoil are both curved.
+    assert!(curved.report.curved_facets > 0);
+    assert_eq!(curved.report.facets_straight, 0);
+}
+
+#[test]
+fn same_input_same_bits_for_any_thread_count() {
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| curve_demo(Demo::Naca0012, 3).mesh.nodes)
+    };
+    let one = run(1);
+    for threads in [2, 3] {
+        assert!(one == run(threads), "{threads} threads differ from 1");
+    }
+}
+
+#[test]
+fn a_geometry_that_does_not_match_the_mesh_is_an_error() {
+    let linear = Demo::Sphere.mesh().unwrap();
+    // A sphere of radius 2: every vertex of the "sphere" group is 1 away.
+    let model = parse_geometry_json(
+        r#"{"entities": [{"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": 2}]}"#,
+    )
+    .unwrap();
+    let geometry = Geometry {
+        model: &model,
+        rule: AssociationRule::NameOnly,
+    };
+    let err = curve_mesh(&linear, Some(geometry), &CurveOptions::new(2), &mut |_| {})
+        .err()
+        .unwrap();
+    let message = err.to_string();
+    assert!(message.contains("sphere"), "{message}");
+    // No entity named like any group: nothing to curve onto.
+    let model = parse_geometry_json(
+        r#"{"entities": [{"name": "wing", "kind": "sphere", "center": [0, 0, 0], "radius": 1}]}"#,
+    )
+    .unwrap();
+    let geometry = Geometry {
+        model: &model,
+        rule: AssociationRule::NameOnly,
+    };
+    let err = curve_mesh(&linear, Some(geometry), &CurveOptions::new(2), &mut |_| {}).err();
+    assert!(
+        matches!(err, Some(CurveError::NothingOnGeometry { .. })),
+        "{err:?}"
+    );
+}
+
+#[test]
+fn a_mesh_with_no_dirichlet_boundary_is_an_error() {
+    let linear = unit_square_mesh(2, ElementType::Tri);
+    let mesh = HighOrderMesh::from_linear(&linear, 2, NodeFamily::Fekete).unwrap();
+    let err = solve_displacement(
+        &mesh,
+        &Material::default(),
+        &BoundaryConditions::default(),
+        &SolverOptions::default(),
+    )
+    .err();
+    assert!(matches!(err, Some(ElasticError::NoDirichlet)), "{err:?}");
+}
+
+/// A quarter annulus 1 ≤ r ≤ 2, 0 ≤ θ ≤ π/2 of `n × n` quads cut into triangles, with
+/// boundary groups "wall" (r = 1), "outer" (r = 2), "bottom" (y = 0), "left" (x = 0).
+fn quarter_annulus(n: usize) -> LinearMesh {
+    let id = |i: usize, j: usize| (i + (n + 1) * j) as u32;
+    let mut vertices = Vec::new();
+    for j in 0..=n {
+        let theta = std::f64::consts::FRAC_PI_2 * j as f64 / n as f64;
+        for i in 0..=n {
+            let r = 1.0 + i as f64 / n as f64;
+            // Exact zeros on the axes so that the sides are exactly planar.
+            let (s, c) = if j == n { (1.0, 0.0) } else { theta.sin_cos() };
+            vertices.push([r * c, r * s, 0.0]);
+        }
+    }
+    let mut cells = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+            for v in [vec![a, b, c], vec![a, c, d]] {
+                cells.push(Element {
+                    kind: ElementType::Tri,
+                    vertices: v,
+                    entity: 1,
+                });
+            }
+        }
+    }
+    let mut facets = Vec::new();
+    let mut edge = |a, b, entity| {
+        facets.push(Element {
+            kind: ElementType::Line,
+            vertices: vec![a, b],
+            entity,
+        })
+    };
+    for k in 0..n {
+        edge(id(0, k), id(0, k + 1), 1);
+        edge(id(n, k), id(n, k + 1), 2);
+        edge(id(k, 0), id(k + 1, 0), 3);
+        edge(id(k, n), id(k + 1, n), 4);
+    }
+    let names = ["wall", "outer", "bottom", "left"];
+    LinearMesh {
+        dim: 2,
+        vertices,
+        cells,
+        facets,
+        physical_groups: (1..=4)
+            .map(|t| PhysicalGroup {
+                dim: 1,
+                tag: t,
+                name: names[t as usize - 1].to_string(),
+            })
+            .collect(),
+        entity_physicals: (1..=4)
+            .map(|t| ((1, t), vec![t]))
+            .collect::<BTreeMap<_, _>>(),
+    }
+}
+
+#[test]
+fn sliding_groups_keep_their_nodes_in_their_plane_and_move_them_along_it() {
+    let linear = quarter_annulus(4);
+    let model = parse_geometry_json(
+        r#"{"entities": [{"name": "wall", "kind": "circle", "center": [0, 0], "radius": 1}]}"#,
+    )
+    .unwrap();
+    let geometry = Geometry {
+        model: &model,
+        rule: AssociationRule::NameOnly,
+    };
+    let fixed = curve_mesh(&linear, Some(geometry), &CurveOptions::new(4), &mut |_| {}).unwrap();
+    let mut options = CurveOptions::new(4);
+    options.slide = vec!["bottom".into(), "left".into()];
+    let slid = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert!(slid.report.sliding_nodes > 0);
+    assert_eq!(slid.report.invalid_elements, 0);
+    let bottom = group_nodes(&slid.mesh, "bottom");
+    let left = group_nodes(&slid.mesh, "left");
+    let mut tangential = 0.0f64;
+    for &n in &bottom {
+        let (x, u) = (slid.mesh.nodes[n as usize], slid.displacement[n as usize]);
+        assert!(x[1].abs() < 1e-12, "bottom node {n} left y = 0: {x:?}");
+        tangential = tangential.max(u[0].abs());
+        // Fixed, the same node does not move at all (or is on the wall).
+        let u_fixed = fixed.displacement[n as usize];
+        assert!(u_fixed[0].abs() < 1e-14 || x[0] <= 1.0 + 1e-12);
+    }
+    for &n in &left {
+        assert!(slid.mesh.nodes[n as usize][0].abs() < 1e-12);
+    }
+    assert!(tangential > 1e-6, "sliding nodes did not move: {tangential}");
+    // Corner shared by the wall and a plane: the curved target wins.
+    let corner = bottom
+        .iter()
+        .copied()
+        .find(|&n| {
+            let x = slid.mesh.nodes[n as usize];
+            (x[0] - 1.0).abs() < 1e-12
+        })
+        .unwrap();
+    assert_eq!(slid.mesh.nodes[corner as usize][1], 0.0);
+    // A group that does not exist, and one that is not planar, are errors.
+    options.slide = vec!["symmetry".into()];
+    let err = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).err();
+    assert!(
+        matches!(err, Some(CurveError::UnknownSlideGroup { .. })),
+        "{err:?}"
+    );
+    options.slide = vec!["outer".into()];
+    let err = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).err();
+    assert!(
+        matches!(err, Some(CurveError::SlideGroupNotPlanar { .. })),
+        "{err:?}"
+    );
+}
