@@ -1,0 +1,128 @@
+//! The `hocurve` binary as a user runs it: the demo with a report and plots, `quality` on
+//! what it wrote, and the errors of bad requests (exit code 1, one line, no output file).
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn hocurve(args: &[&str], dir: &Path) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_hocurve"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("the hocurve binary runs")
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn demo_writes_mesh_report_and_plots_and_quality_reads_the_mesh_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = hocurve(
+        &[
+            "demo", "naca0012", "-p", "3", "-o", "naca.msh", "--report", "report.json", "--plots",
+            "plots",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
+            .unwrap();
+    for field in [
+        "order",
+        "elements",
+        "nodes",
+        "dofs",
+        "curved_facets",
+        "max_geometry_distance",
+        "solver",
+        "residual",
+        "min_scaled_jacobian",
+        "invalid_elements",
+        "fraction_above_0_95",
+        "elements_below_0_5",
+        "timings",
+    ] {
+        assert!(report.get(field).is_some(), "report lacks {field}");
+    }
+    assert_eq!(report["order"], 3);
+    assert_eq!(report["invalid_elements"], 0);
+    assert!(report["residual"].as_f64().unwrap() < 1e-8);
+    assert!(report["timings"]["solve"].as_f64().is_some());
+    for plot in ["scaled_jacobian.svg", "stretching.svg"] {
+        let svg = std::fs::read_to_string(dir.path().join("plots").join(plot)).unwrap();
+        assert!(svg.starts_with("<svg") || svg.contains("<svg"), "{plot}");
+    }
+    // The written mesh carries the displacement and the quality as data.
+    let msh = std::fs::read_to_string(dir.path().join("naca.msh")).unwrap();
+    assert!(msh.contains("$NodeData") && msh.contains("\"displacement\""));
+    assert!(msh.contains("$ElementData") && msh.contains("\"scaled_jacobian\""));
+
+    // `quality` scores the file as `curve` scored the mesh.
+    let q = hocurve(&["quality", "naca.msh", "--json"], dir.path());
+    assert!(q.status.success(), "{}", stderr(&q));
+    let summary: serde_json::Value = serde_json::from_str(&stdout(&q)).unwrap();
+    let (a, b) = (
+        summary["min_scaled_jacobian"].as_f64().unwrap(),
+        report["min_scaled_jacobian"].as_f64().unwrap(),
+    );
+    assert!((a - b).abs() < 1e-10, "{a} vs {b}");
+    assert_eq!(summary["elements"], report["elements"]);
+}
+
+#[test]
+fn vtu_output_has_displacement_and_quality_arrays() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = hocurve(&["demo", "naca0012", "-p", "2", "-o", "naca.vtu"], dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let vtu = std::fs::read_to_string(dir.path().join("naca.vtu")).unwrap();
+    for name in ["displacement", "scaled_jacobian", "stretching"] {
+        assert!(vtu.contains(&format!("Name=\"{name}\"")), "{name}");
+    }
+    let q = hocurve(&["quality", "naca.vtu"], dir.path());
+    assert!(q.status.success(), "{}", stderr(&q));
+    assert!(stdout(&q).contains("min scaled Jacobian"));
+}
+
+#[test]
+fn bad_requests_fail_with_one_line_and_leave_no_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let fixtures = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures");
+    let mesh = fixtures.join("naca0012/naca0012.msh");
+    let geometry = fixtures.join("naca0012/naca0012.json");
+    let (mesh, geometry) = (mesh.to_str().unwrap(), geometry.to_str().unwrap());
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["curve", mesh, "-p", "3", "-o", "out.vtu"], "--geometry"),
+        (
+            vec!["curve", mesh, "-p", "3", "-g", geometry, "-o", "out.stl"],
+            "unknown output format",
+        ),
+        (
+            vec![
+                "curve", mesh, "-p", "3", "-g", geometry, "--slide", "symmetry", "-o", "out.vtu",
+            ],
+            "symmetry",
+        ),
+        (
+            vec!["curve", "missing.msh", "-p", "3", "--straight", "-o", "out.vtu"],
+            "missing.msh",
+        ),
+        (vec!["quality", "missing.vtu"], "missing.vtu"),
+    ];
+    for (args, expected) in cases {
+        let out = hocurve(&args, dir.path());
+        assert_eq!(out.status.code(), Some(1), "{args:?}");
+        let err = stderr(&out);
+        assert!(err.starts_with("hocurve: error:"), "{args:?}: {err}");
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+    }
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert!(left.is_empty(), "files left behind: {left:?}");
+}
