@@ -24,7 +24,7 @@ use crate::association::snap_onto;
 use crate::chart::SurfaceChart;
 use crate::path::{chord_point_at_fraction, cumulative_lengths, distance};
 use crate::placement::CurveArc;
-use crate::vector::{add, cross, dot, scale, start_tangent, SurfaceFrame};
+use crate::vector::{add, cross, dot, end_tangent, scale, SurfaceFrame};
 use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
 
 /// At least this many segments in a traced intersection curve.
@@ -117,12 +117,7 @@ impl<'a> FeatureCurve<'a> {
     /// Unit tangent at the first vertex (`at_end = false`) or the last (`true`), pointing
     /// into the edge.
     pub(crate) fn end_tangent(&self, at_end: bool) -> Option<[f64; 3]> {
-        if at_end {
-            let reversed: Vec<[f64; 3]> = self.points.iter().rev().copied().collect();
-            start_tangent(&reversed)
-        } else {
-            start_tangent(&self.points)
-        }
+        end_tangent(&self.points, at_end)
     }
 }
 

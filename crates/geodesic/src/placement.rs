@@ -25,7 +25,7 @@ use crate::chart::SurfaceChart;
 use crate::correction::{check_edge, CorrectedEdge, EdgeEnd, Neighbour};
 use crate::feature::FeatureCurve;
 use crate::path::{distance, GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
-use crate::vector::start_tangent;
+use crate::vector::end_tangent;
 use crate::{BoundaryAssociation, GeodesicError};
 
 /// How boundary nodes are placed on the geometry.
@@ -644,12 +644,7 @@ impl EdgeCarrier<'_> {
 impl GeodesicPath {
     /// Unit tangent at the start (`at_end = false`) or the end, pointing into the path.
     pub(crate) fn end_tangent(&self, at_end: bool) -> Option<[f64; 3]> {
-        if at_end {
-            let reversed: Vec<[f64; 3]> = self.points.iter().rev().copied().collect();
-            start_tangent(&reversed)
-        } else {
-            start_tangent(&self.points)
-        }
+        end_tangent(&self.points, at_end)
     }
 
     /// The same path run backwards.

@@ -116,3 +116,14 @@ pub(crate) fn start_tangent(points: &[[f64; 3]]) -> Option<[f64; 3]> {
         _ => Some(d1),
     }
 }
+
+/// Unit tangent of a polyline at its first point (`at_end = false`) or its last, pointing
+/// into the polyline.
+pub(crate) fn end_tangent(points: &[[f64; 3]], at_end: bool) -> Option<[f64; 3]> {
+    if at_end {
+        let reversed: Vec<[f64; 3]> = points.iter().rev().copied().collect();
+        start_tangent(&reversed)
+    } else {
+        start_tangent(points)
+    }
+}
