@@ -13,15 +13,19 @@ pub fn interpolation_l2_error(
 ) -> Result<f64, MeshError> {
     let mut total = 0.0;
     let (mut current, mut fx) = (usize::MAX, Vec::new());
-    integrate_over_cells(mesh, 2 * mesh.order + 6, |cell, x, values, point, det_weight| {
-        if cell != current {
-            current = cell;
-            fx = x.iter().map(|&xj| f(xj)).collect();
-        }
-        let interpolant: f64 = values.iter().zip(&fx).map(|(v, fj)| v * fj).sum();
-        let e = interpolant - f(point);
-        total += det_weight.abs() * e * e;
-    })?;
+    integrate_over_cells(
+        mesh,
+        2 * mesh.order + 6,
+        |cell, x, values, point, det_weight| {
+            if cell != current {
+                current = cell;
+                fx = x.iter().map(|&xj| f(xj)).collect();
+            }
+            let interpolant: f64 = values.iter().zip(&fx).map(|(v, fj)| v * fj).sum();
+            let e = interpolant - f(point);
+            total += det_weight.abs() * e * e;
+        },
+    )?;
     Ok(total.sqrt())
 }
 
@@ -49,7 +53,10 @@ fn integrate_over_cells(
         let shape = cell.kind.shape()?;
         if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(shape) {
             let nodes = ReferenceNodes::try_new(shape, p, mesh.family)?;
-            slot.insert((LagrangeBasis::new(&nodes)?, QuadratureRule::new(shape, degree)));
+            slot.insert((
+                LagrangeBasis::new(&nodes)?,
+                QuadratureRule::new(shape, degree),
+            ));
         }
         let (basis, rule) = &cache[&shape];
         let x: Vec<[f64; 3]> = cell.nodes.iter().map(|&n| mesh.nodes[n as usize]).collect();

@@ -17,8 +17,7 @@ use hocurve_elastic::{
     solve_displacement, BoundaryConditions, ElasticError, Material, SolverKind, SolverOptions,
 };
 use hocurve_geodesic::{
-    associate_boundary, place_boundary_nodes_with, AssociationRule, GeodesicError,
-    PlacementOptions,
+    associate_boundary, place_boundary_nodes_with, AssociationRule, GeodesicError, PlacementOptions,
 };
 use hocurve_mesh::{HighOrderMesh, LinearMesh, MeshError};
 use hocurve_nodes::{NodeFamily, NodesError};
@@ -59,7 +58,9 @@ pub enum CurveError {
         available: String,
     },
     /// A `slide` group is not planar (straight in 2D), so it has no single sliding normal.
-    #[error("--slide {name}: the group is not planar (a vertex is {distance:.3e} off its best plane)")]
+    #[error(
+        "--slide {name}: the group is not planar (a vertex is {distance:.3e} off its best plane)"
+    )]
     SlideGroupNotPlanar {
         /// The group.
         name: String,
@@ -314,7 +315,8 @@ pub fn curve_mesh(
             let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
             sliding_nodes = bc.sliding.len();
             let solution = solve_displacement(&mesh, &options.material, &bc, &options.solver)?;
-            if !(solution.relative_residual <= options.solver.tolerance.max(1e-8)) {
+            let residual = solution.relative_residual;
+            if residual.is_nan() || residual > options.solver.tolerance.max(1e-8) {
                 return Err(CurveError::NotConverged {
                     residual: solution.relative_residual,
                     tolerance: options.solver.tolerance,
@@ -498,7 +500,11 @@ fn group_facets(mesh: &HighOrderMesh, name: &str) -> Result<Vec<usize>, CurveErr
 }
 
 /// The unit normal of the plane (line in 2D) through the vertices of `facets`, checked.
-fn plane_normal(mesh: &HighOrderMesh, name: &str, facets: &[usize]) -> Result<[f64; 3], CurveError> {
+fn plane_normal(
+    mesh: &HighOrderMesh,
+    name: &str,
+    facets: &[usize],
+) -> Result<[f64; 3], CurveError> {
     let vertices: BTreeSet<u32> = facets
         .iter()
         .flat_map(|&f| {
@@ -529,7 +535,11 @@ fn plane_normal(mesh: &HighOrderMesh, name: &str, facets: &[usize]) -> Result<[f
             let t = [x[1][0] - x[0][0], x[1][1] - x[0][1]];
             // Orientation-free: make the normal point the same way as the running sum.
             let n = [t[1], -t[0], 0.0];
-            let sign = if n[0] * normal[0] + n[1] * normal[1] < 0.0 { -1.0 } else { 1.0 };
+            let sign = if n[0] * normal[0] + n[1] * normal[1] < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
             normal[0] += sign * n[0];
             normal[1] += sign * n[1];
         } else {
@@ -553,7 +563,7 @@ fn plane_normal(mesh: &HighOrderMesh, name: &str, facets: &[usize]) -> Result<[f
         .iter()
         .map(|p| dot(sub(*p, centre), sub(*p, centre)).sqrt())
         .fold(0.0, f64::max);
-    if !(length > 0.0) {
+    if length.is_nan() || length <= 0.0 {
         return Err(CurveError::SlideGroupNotPlanar {
             name: name.to_string(),
             distance: f64::NAN,

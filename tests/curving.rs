@@ -24,7 +24,13 @@ fn curve_demo(demo: Demo, order: usize) -> CurvedMesh {
         model: &model,
         rule,
     };
-    curve_mesh(&linear, Some(geometry), &CurveOptions::new(order), &mut |_| {}).unwrap()
+    curve_mesh(
+        &linear,
+        Some(geometry),
+        &CurveOptions::new(order),
+        &mut |_| {},
+    )
+    .unwrap()
 }
 
 /// Nodes of the declared facets in the physical group `name`.
@@ -57,7 +63,10 @@ fn check_sphere(order: usize) -> f64 {
     for n in on_sphere {
         let x = mesh.nodes[n as usize];
         let r = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
-        assert!((r - 1.0).abs() < 1e-12, "p = {order}: node {n} at radius {r}");
+        assert!(
+            (r - 1.0).abs() < 1e-12,
+            "p = {order}: node {n} at radius {r}"
+        );
     }
     assert_eq!(curved.report.invalid_elements, 0, "p = {order}");
     assert!(curved.report.residual <= 1e-8);
@@ -95,7 +104,10 @@ fn naca0012_at_p5_has_the_formula_node_count_and_min_scaled_jacobian_above_0_8()
     // Euler for a disc with one hole (the airfoil): V − E + F = 0.
     let e = v + f;
     let p = 5;
-    assert_eq!(curved.report.nodes, v + e * (p - 1) + f * (p - 1) * (p - 2) / 2);
+    assert_eq!(
+        curved.report.nodes,
+        v + e * (p - 1) + f * (p - 1) * (p - 2) / 2
+    );
     assert_eq!(curved.report.invalid_elements, 0);
     let min = curved.report.min_scaled_jacobian.unwrap();
     assert!(min >= 0.8, "min scaled Jacobian {min}");
@@ -258,7 +270,10 @@ fn sliding_groups_keep_their_nodes_in_their_plane_and_move_them_along_it() {
     for &n in &left {
         assert!(slid.mesh.nodes[n as usize][0].abs() < 1e-12);
     }
-    assert!(tangential > 1e-6, "sliding nodes did not move: {tangential}");
+    assert!(
+        tangential > 1e-6,
+        "sliding nodes did not move: {tangential}"
+    );
     // Corner shared by the wall and a plane: the curved target wins.
     let corner = bottom
         .iter()

@@ -31,6 +31,7 @@ Prints one line per file; exits 1 on any failure.
 import argparse
 import os
 import sys
+import tempfile
 
 import gmsh
 import numpy as np
@@ -136,6 +137,29 @@ def vertex_volume(fam, x):
     raise ValueError(fam)
 
 
+def restart_gmsh():
+    """A fresh Gmsh session: after a failed `open`, Gmsh's state is unusable (later files
+    read as empty)."""
+    gmsh.finalize()
+    gmsh.initialize(["-noenv"])
+    gmsh.option.setNumber("General.Terminal", 0)
+
+
+def without_data_sections(path):
+    """A copy of the MSH file without its $NodeData/$ElementData sections."""
+    out = os.path.join(tempfile.mkdtemp(), os.path.basename(path))
+    skip = False
+    with open(path) as src, open(out, "w") as dst:
+        for line in src:
+            if line.startswith(("$NodeData", "$ElementData", "$ElementNodeData")):
+                skip = True
+            if not skip:
+                dst.write(line)
+            if line.startswith(("$EndNodeData", "$EndElementData", "$EndElementNodeData")):
+                skip = False
+    return out
+
+
 def check_file(path, curved, constant=True):
     fails, notes = [], []
     gmsh.clear()
@@ -143,7 +167,21 @@ def check_file(path, curved, constant=True):
     try:
         gmsh.open(path)
     except Exception as e:  # noqa: BLE001 - report whatever Gmsh raised
-        fails.append(f"gmsh.open failed: {e}")
+        gmsh.logger.stop()
+        restart_gmsh()
+        gmsh.logger.start()
+        if "FaceClosureFull" in str(e):
+            # Gmsh cannot build the post-processing views of point/cell data on complete
+            # prisms of order >= 3; the mesh itself is what is checked here.
+            notes.append("Gmsh cannot show data on order >= 3 prisms: mesh read without "
+                         "its data sections")
+            try:
+                gmsh.open(without_data_sections(path))
+            except Exception as e2:  # noqa: BLE001
+                fails.append(f"gmsh.open failed: {e2}")
+                restart_gmsh()
+        else:
+            fails.append(f"gmsh.open failed: {e}")
     log = gmsh.logger.get()
     gmsh.logger.stop()
     errors = [m for m in log if m.startswith("Error") or m.startswith("Warning")]

@@ -1,14 +1,37 @@
 //! Project automation: `cargo xtask verify` is the regression gate run by CI (`.ci/run`).
 //!
-//! It runs, in order, stopping at the first failure: `cargo fmt --check`, `cargo clippy`
-//! (warnings are errors), `cargo test --workspace`, and the interoperability checks, in which
-//! the real VTK and Gmsh Python packages read the meshes `hocurve` writes and measure them
-//! with their own shape functions.
+//! It runs, in order, stopping at the first failure with a summary of the steps and their
+//! times:
+//! 1. `cargo fmt --check` and `cargo clippy` (warnings are errors);
+//! 2. `cargo test --workspace` (with `HOCURVE_SNAPSHOT_QUICK=1`: the slow sphere snapshots
+//!    are left to step 3);
+//! 3. the golden snapshot suite (`tests/snapshots.rs`: NACA0012 at p = 1..5, triangles and
+//!    quadrilaterals, the sphere at p = 2..4, Fekete and equispaced; curved mesh as ASCII
+//!    `.vtu` and quality summary), once with `RAYON_NUM_THREADS=1` and once with `=2`;
+//!    then the sphere at p = 2..5 end to end (`tests/curving.rs`, ignored by plain
+//!    `cargo test`: boundary nodes on the sphere, no invalid element, volume error falling);
+//! 4. the paper reproduction: Sect. 5.1's NACA0012 figures beside ours (fails if our quality
+//!    is below the paper's) and the Fig. 12b interpolation tables;
+//! 5. the interoperability checks, in which the real VTK and Gmsh Python packages (in
+//!    `target/pyenv`, created if missing; skipped loudly only under `--offline`) read the
+//!    meshes `hocurve` writes and measure them with their own shape functions: straight
+//!    samples and fixtures, the committed snapshots (VTK: det J > 0, volume of the
+//!    sphere-in-box at p = 4 equal to 216 − 4π/3 to 1e-6), curved `.msh` files of every
+//!    element type at p = 1..5 (Gmsh: det J > 0 and equal to ours).
+//!
+//! `cargo xtask verify --review` first re-records the snapshots for review (`cargo insta
+//! review` if installed). `cargo xtask bench` times our curving of the sphere against Gmsh's
+//! (`xtask/src/bench.rs`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use anyhow::{bail, Context, Result};
+
+mod bench;
+mod curved_interop;
+mod paper;
+mod snapshots;
 
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -16,9 +39,16 @@ fn main() -> Result<()> {
         Some("verify") => verify(&args[1..]),
         Some("interop") => interop(&args[1..]),
         Some("interpolation") => interpolation_table(),
+        Some("snapshots") => snapshots::snapshot_suite(),
+        Some("curved-interop") => match python_env(args.iter().any(|a| a == "--offline"))? {
+            Some(python) => curved_interop::curved_interop(&python),
+            None => Ok(()),
+        },
+        Some("paper") => paper(),
+        Some("bench") => bench::bench(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask verify [--offline] [--skip-lint]\n       cargo xtask interop [--offline]\n       cargo xtask interpolation"
+                "usage: cargo xtask verify [--offline] [--skip-lint] [--review]\n       cargo xtask interop [--offline]\n       cargo xtask curved-interop [--offline]\n       cargo xtask snapshots\n       cargo xtask paper\n       cargo xtask interpolation\n       cargo xtask bench [--orders 2,3,4,5] [--gmsh-timeout 120]"
             );
             bail!("unknown or missing task")
         }
@@ -38,40 +68,135 @@ fn cargo() -> Command {
     cmd
 }
 
+/// Cargo's target directory (`CARGO_TARGET_DIR`, else `target/`).
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(|d| root().join(d))
+        .unwrap_or_else(|| root().join("target"))
+}
+
 fn run(step: &str, cmd: &mut Command) -> Result<()> {
     eprintln!("==> {step}");
+    let start = std::time::Instant::now();
     let status = cmd
         .status()
         .with_context(|| format!("{step}: could not start {cmd:?}"))?;
+    eprintln!("    ({step}: {:.0} s)", start.elapsed().as_secs_f64());
     if !status.success() {
         bail!("{step} failed ({status})");
     }
     Ok(())
 }
 
+/// Runs one step of `verify`, recording its time and outcome in `log`.
+fn step(
+    log: &mut Vec<(String, f64, bool)>,
+    name: &str,
+    f: impl FnOnce() -> Result<()>,
+) -> Result<()> {
+    let start = std::time::Instant::now();
+    let result = f();
+    log.push((
+        name.to_string(),
+        start.elapsed().as_secs_f64(),
+        result.is_ok(),
+    ));
+    result
+}
+
+fn print_summary(log: &[(String, f64, bool)]) {
+    eprintln!("==> verify summary");
+    for (name, seconds, ok) in log {
+        let status = if *ok { "ok" } else { "FAILED" };
+        eprintln!("    {status:<7}{seconds:>7.0} s  {name}");
+    }
+}
+
+/// The paper reproduction: every table is printed before a failure is reported.
+fn paper() -> Result<()> {
+    let table = paper::paper_table();
+    interpolation_table()?;
+    paper::naca_interpolation_table()?;
+    table
+}
+
 fn verify(args: &[String]) -> Result<()> {
     let skip_lint = args.iter().any(|a| a == "--skip-lint");
-    if !skip_lint {
-        run(
-            "cargo fmt --check",
-            cargo().args(["fmt", "--all", "--", "--check"]),
-        )?;
-        run(
-            "cargo clippy",
-            cargo().args([
-                "clippy",
-                "--workspace",
-                "--all-targets",
-                "--",
-                "-D",
-                "warnings",
-            ]),
-        )?;
+    let mut log = Vec::new();
+    let result = verify_steps(args, skip_lint, &mut log);
+    print_summary(&log);
+    match result {
+        Ok(()) => {
+            eprintln!("==> verify: all steps passed");
+            Ok(())
+        }
+        Err(e) => Err(e.context("verify stopped at the first failure (summary above)")),
     }
-    run("cargo test", cargo().args(["test", "--workspace"]))?;
-    interpolation_table()?;
-    interop(args)?;
-    eprintln!("==> verify: all steps passed");
+}
+
+fn verify_steps(
+    args: &[String],
+    skip_lint: bool,
+    log: &mut Vec<(String, f64, bool)>,
+) -> Result<()> {
+    if args.iter().any(|a| a == "--review") {
+        step(log, "snapshot review", snapshots::review)?;
+    }
+    if !skip_lint {
+        step(log, "cargo fmt --check", || {
+            run(
+                "cargo fmt --check",
+                cargo().args(["fmt", "--all", "--", "--check"]),
+            )
+        })?;
+        step(log, "cargo clippy", || {
+            run(
+                "cargo clippy",
+                cargo().args([
+                    "clippy",
+                    "--workspace",
+                    "--all-targets",
+                    "--",
+                    "-D",
+                    "warnings",
+                ]),
+            )
+        })?;
+    }
+    step(log, "cargo test --workspace", || {
+        run(
+            "cargo test (sphere snapshots left to the snapshot suite)",
+            cargo()
+                .env("HOCURVE_SNAPSHOT_QUICK", "1")
+                .args(["test", "--workspace"]),
+        )
+    })?;
+    step(
+        log,
+        "snapshot suite (1 and 2 threads)",
+        snapshots::snapshot_suite,
+    )?;
+    step(
+        log,
+        "sphere p = 2..5 end to end (ignored in cargo test)",
+        || {
+            run(
+                "cargo test -p hocurve --test curving -- --ignored",
+                cargo().args([
+                    "test",
+                    "-p",
+                    "hocurve",
+                    "--test",
+                    "curving",
+                    "--",
+                    "--ignored",
+                    "--nocapture",
+                ]),
+            )
+        },
+    )?;
+    step(log, "paper reproduction", paper)?;
+    step(log, "interoperability (VTK, Gmsh)", || interop(args))?;
     Ok(())
 }
 
@@ -171,7 +296,7 @@ fn interop(args: &[String]) -> Result<()> {
         "build hocurve",
         cargo().args(["build", "-p", "hocurve-cli"]),
     )?;
-    let hocurve = root().join("target").join("debug").join("hocurve");
+    let hocurve = target_dir().join("debug").join("hocurve");
     let fixtures = [
         ("fixtures/formats/cube_v41_ascii.msh", 6),
         ("fixtures/formats/square_v41_ascii.msh", 6),
@@ -254,7 +379,7 @@ fn interop(args: &[String]) -> Result<()> {
             )?;
         }
     }
-    Ok(())
+    curved_interop::curved_interop(&python)
 }
 
 /// Total volume (3D) or area (2D) of the straight-sided mesh in `path`: Σ_cells Σ_q w_q |det J|

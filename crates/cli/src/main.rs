@@ -206,10 +206,9 @@ fn run(cli: Cli) -> Result<()> {
             let read = start.elapsed().as_secs_f64();
             let mut options = method.options(order as usize)?;
             options.geometry_tolerance = geometry_tolerance;
-            let geometry = model.as_ref().map(|(model, rule)| Geometry {
-                model,
-                rule: *rule,
-            });
+            let geometry = model
+                .as_ref()
+                .map(|(model, rule)| Geometry { model, rule: *rule });
             println!(
                 "{}: {}D, {} vertices, {} cells -> order {order} ({} nodes)",
                 mesh.display(),
@@ -568,4 +567,3 @@ fn read_geometry(path: &Path) -> Result<(GeometryModel, AssociationRule)> {
         ),
     }
 }
-

@@ -25,7 +25,15 @@ fn demo_writes_mesh_report_and_plots_and_quality_reads_the_mesh_back() {
     let dir = tempfile::tempdir().unwrap();
     let out = hocurve(
         &[
-            "demo", "naca0012", "-p", "3", "-o", "naca.msh", "--report", "report.json", "--plots",
+            "demo",
+            "naca0012",
+            "-p",
+            "3",
+            "-o",
+            "naca.msh",
+            "--report",
+            "report.json",
+            "--plots",
             "plots",
         ],
         dir.path(),
@@ -79,7 +87,10 @@ fn demo_writes_mesh_report_and_plots_and_quality_reads_the_mesh_back() {
 #[test]
 fn vtu_output_has_displacement_and_quality_arrays() {
     let dir = tempfile::tempdir().unwrap();
-    let out = hocurve(&["demo", "naca0012", "-p", "2", "-o", "naca.vtu"], dir.path());
+    let out = hocurve(
+        &["demo", "naca0012", "-p", "2", "-o", "naca.vtu"],
+        dir.path(),
+    );
     assert!(out.status.success(), "{}", stderr(&out));
     let vtu = std::fs::read_to_string(dir.path().join("naca.vtu")).unwrap();
     for name in ["displacement", "scaled_jacobian", "stretching"] {
@@ -98,7 +109,10 @@ fn bad_requests_fail_with_one_line_and_leave_no_output() {
     let geometry = fixtures.join("naca0012/naca0012.json");
     let (mesh, geometry) = (mesh.to_str().unwrap(), geometry.to_str().unwrap());
     let cases: Vec<(Vec<&str>, &str)> = vec![
-        (vec!["curve", mesh, "-p", "3", "-o", "out.vtu"], "--geometry"),
+        (
+            vec!["curve", mesh, "-p", "3", "-o", "out.vtu"],
+            "--geometry",
+        ),
         (
             vec!["curve", mesh, "-p", "3", "-g", geometry, "-o", "out.stl"],
             "unknown output format",
@@ -110,7 +124,15 @@ fn bad_requests_fail_with_one_line_and_leave_no_output() {
             "symmetry",
         ),
         (
-            vec!["curve", "missing.msh", "-p", "3", "--straight", "-o", "out.vtu"],
+            vec![
+                "curve",
+                "missing.msh",
+                "-p",
+                "3",
+                "--straight",
+                "-o",
+                "out.vtu",
+            ],
             "missing.msh",
         ),
         (vec!["quality", "missing.vtu"], "missing.vtu"),

@@ -3,8 +3,7 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use hocurve_mesh::{HighOrderMesh, NO_CELL};
-use hocurve_nodes::{NodeEntity, ReferenceNodes};
+use hocurve_mesh::HighOrderMesh;
 
 use crate::ElasticError;
 
@@ -53,60 +52,10 @@ impl BoundaryConditions {
 /// The nodes lying on boundary facets of the mesh (faces with one cell in 3D, edges in 2D),
 /// sorted. Found from the topology, so it needs no facets declared in the file.
 pub fn boundary_nodes(mesh: &HighOrderMesh) -> Result<Vec<u32>, ElasticError> {
-    let topology = &mesh.topology;
-    let mut out = BTreeSet::new();
-    let mut references = BTreeMap::new();
-    for f in topology.boundary_facets() {
-        let c = topology.facet_cells[f][0];
-        if c == NO_CELL {
-            continue;
-        }
-        let cell = &mesh.cells[c as usize];
-        let shape = cell.kind.shape()?;
-        if let std::collections::btree_map::Entry::Vacant(slot) = references.entry(shape) {
-            slot.insert(ReferenceNodes::try_new(shape, mesh.order, mesh.family)?);
-        }
-        let entities = references[&shape].entities();
-        let on_facet: Box<dyn Fn(&NodeEntity) -> bool> = if mesh.dim == 2 {
-            let Some(k) = topology
-                .cell_edges
-                .row(c as usize)
-                .iter()
-                .position(|&e| e as usize == f)
-            else {
-                continue;
-            };
-            let [a, b] = shape.edges()[k];
-            Box::new(move |e: &NodeEntity| match *e {
-                NodeEntity::Vertex(v) => v == a || v == b,
-                NodeEntity::Edge { edge, .. } => edge == k,
-                _ => false,
-            })
-        } else {
-            let Some(k) = topology
-                .cell_faces
-                .row(c as usize)
-                .iter()
-                .position(|&x| x as usize == f)
-            else {
-                continue;
-            };
-            let face = shape.faces()[k];
-            Box::new(move |e: &NodeEntity| match *e {
-                NodeEntity::Vertex(v) => face.contains(&v),
-                NodeEntity::Edge { edge, .. } => {
-                    let [a, b] = shape.edges()[edge];
-                    face.contains(&a) && face.contains(&b)
-                }
-                NodeEntity::Face { face: g, .. } => g == k,
-                NodeEntity::Interior(_) => false,
-            })
-        };
-        for (entity, &node) in entities.iter().zip(&cell.nodes) {
-            if on_facet(entity) {
-                out.insert(node);
-            }
-        }
-    }
-    Ok(out.into_iter().collect())
+    let nodes: BTreeSet<u32> = mesh
+        .boundary_facet_nodes()?
+        .into_iter()
+        .flat_map(|(_, nodes)| nodes)
+        .collect();
+    Ok(nodes.into_iter().collect())
 }

@@ -5,7 +5,8 @@
 //! continuous isoparametric Lagrange elements of the mesh's order on every element type
 //! ([`assemble_stiffness`]). Boundary nodes are prescribed or slide along a wall
 //! ([`BoundaryConditions`]); the condensed system is solved by a two-level preconditioned
-//! conjugate gradient (coarse p = 1 problem on the vertices + Chebyshev block-Jacobi smoother)
+//! conjugate gradient (coarse p = 1 problem on the vertices + Chebyshev smoother with block
+//! Jacobi over the dofs of each vertex, edge, face and cell interior)
 //! or by a sparse Cholesky factorisation ([`SolverKind`]). Results do not depend on the
 //! number of threads, bit for bit.
 //!
@@ -39,6 +40,8 @@
 //! ```
 
 mod assembly;
+mod block_jacobi;
+mod block_matrix;
 mod boundary;
 mod condensation;
 mod element_matrix;

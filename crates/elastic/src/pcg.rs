@@ -1,6 +1,7 @@
 //! Preconditioned conjugate gradients (Hestenes–Stiefel with a symmetric positive definite
 //! preconditioner M ≈ A⁻¹), stopping when the updated residual has fallen by `tolerance`.
 
+use crate::block_matrix::BlockOperator;
 use crate::vector_ops::{axpy, dot, norm, spmv, xpby};
 use crate::StiffnessMatrix;
 
@@ -9,9 +10,41 @@ pub(crate) trait Preconditioner {
     fn apply(&mut self, r: &[f64], z: &mut [f64]);
 }
 
+/// y = A x for a symmetric positive definite A.
+pub(crate) trait LinearOperator: Sync {
+    fn apply(&self, x: &[f64], y: &mut [f64]);
+
+    /// r = b − A x.
+    fn residual(&self, b: &[f64], x: &[f64], r: &mut [f64]) {
+        self.apply(x, r);
+        xmy(b, r);
+    }
+}
+
+/// y = x − y.
+fn xmy(x: &[f64], y: &mut [f64]) {
+    use rayon::prelude::*;
+    y.par_iter_mut()
+        .with_min_len(4096)
+        .zip(x)
+        .for_each(|(yi, xi)| *yi = xi - *yi);
+}
+
+impl LinearOperator for StiffnessMatrix {
+    fn apply(&self, x: &[f64], y: &mut [f64]) {
+        spmv(self, x, y);
+    }
+}
+
+impl LinearOperator for BlockOperator<'_> {
+    fn apply(&self, x: &[f64], y: &mut [f64]) {
+        BlockOperator::apply(self, x, y);
+    }
+}
+
 /// Solves A x = b from the initial guess in `x`; returns the iterations done.
 pub(crate) fn pcg(
-    a: &StiffnessMatrix,
+    a: &dyn LinearOperator,
     b: &[f64],
     x: &mut [f64],
     preconditioner: &mut dyn Preconditioner,
@@ -25,7 +58,7 @@ pub(crate) fn pcg(
         return 0;
     }
     let mut r = vec![0.0; n];
-    crate::vector_ops::residual(a, b, x, &mut r);
+    a.residual(b, x, &mut r);
     let mut z = vec![0.0; n];
     preconditioner.apply(&r, &mut z);
     let mut p = z.clone();
@@ -35,7 +68,7 @@ pub(crate) fn pcg(
         if norm(&r) <= tolerance * b_norm {
             return iteration - 1;
         }
-        spmv(a, &p, &mut q);
+        a.apply(&p, &mut q);
         let pq = dot(&p, &q);
         if pq.is_nan() || pq <= 0.0 {
             // A or M is not positive definite along p (or p vanished): stop, the caller

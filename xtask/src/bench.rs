@@ -1,0 +1,213 @@
+//! `cargo xtask bench`: our elastic curving of the sphere-in-a-box against Gmsh's, on the
+//! same linear mesh, in the same run.
+//!
+//! Gmsh (the Python package in `target/pyenv`) generates the fixture's linear mesh with
+//! `fixtures/make_fixtures.py`'s recipe (deterministic), which `hocurve curve` (release
+//! build) curves at p = 2..5 with its defaults (geodesic boundary nodes, Fekete nodes,
+//! elasticity E = 10, ν = 0.4, quality assessment included). Gmsh, in fresh processes on
+//! the same mesh, does plain projection (`setOrder(p)`) and its elastic curving
+//! (`setOrder(p)` then `optimize("HighOrderElastic")`, stopped after `--gmsh-timeout`
+//! seconds, default 120). All three high-order meshes are measured by the same script
+//! (`scripts/bench_gmsh.py`, with Gmsh's shape functions): the paper's scaled Jacobian at
+//! degree-2p Gauss points and Gmsh's own minSJ. Target: ours ≤ 2× Gmsh's projection time
+//! with a better min scaled Jacobian.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::{Duration, Instant};
+
+use anyhow::{bail, Context, Result};
+use serde_json::Value;
+
+use crate::{cargo, python_env, root, run, target_dir};
+
+/// Gmsh's outcome for one order and mode (None when stopped by the time limit).
+type GmshRun = Option<Value>;
+
+pub fn bench(args: &[String]) -> Result<()> {
+    let mut orders = vec![2, 3, 4, 5];
+    let mut timeout = 120.0;
+    let mut it = args.iter();
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--orders" => {
+                orders = it
+                    .next()
+                    .context("--orders needs a list, e.g. 2,3")?
+                    .split(',')
+                    .map(|s| s.trim().parse::<usize>())
+                    .collect::<Result<_, _>>()
+                    .context("--orders: a comma-separated list of orders")?;
+            }
+            "--gmsh-timeout" => {
+                timeout = it
+                    .next()
+                    .context("--gmsh-timeout needs seconds")?
+                    .parse()
+                    .context("--gmsh-timeout: a number of seconds")?;
+            }
+            other => bail!("bench: unknown argument {other}"),
+        }
+    }
+    let Some(python) = python_env(false)? else {
+        bail!("bench needs the Python environment with gmsh");
+    };
+    run(
+        "build hocurve (release)",
+        cargo().args(["build", "--release", "-p", "hocurve-cli"]),
+    )?;
+    let hocurve = target_dir().join("release").join("hocurve");
+    let out = root().join("target").join("bench");
+    std::fs::create_dir_all(&out)?;
+    let script = root().join("xtask").join("scripts").join("bench_gmsh.py");
+    let linear = out.join("sphere.msh");
+    run(
+        "Gmsh meshes the sphere-in-a-box (fixtures/make_fixtures.py)",
+        Command::new(&python).arg(&script).arg("mesh").arg(&linear),
+    )?;
+    let same = std::fs::read(&linear)? == std::fs::read(root().join("fixtures/sphere/sphere.msh"))?;
+    eprintln!(
+        "    the linear mesh is {}byte-identical to fixtures/sphere/sphere.msh",
+        if same { "" } else { "NOT " }
+    );
+
+    let mut rows = Vec::new();
+    for &p in &orders {
+        let ours_msh = out.join(format!("hocurve_p{p}.msh"));
+        let report = out.join(format!("hocurve_p{p}.json"));
+        run(
+            &format!("hocurve curve, p = {p}"),
+            Command::new(&hocurve)
+                .current_dir(root())
+                .arg("curve")
+                .arg(&linear)
+                .args(["--order", &p.to_string()])
+                .args(["--geometry", "fixtures/sphere/sphere.json", "-o"])
+                .arg(&ours_msh)
+                .arg("--report")
+                .arg(&report)
+                .stdout(std::process::Stdio::null()),
+        )?;
+        let ours: Value = serde_json::from_str(&std::fs::read_to_string(&report)?)?;
+        let measured = out.join(format!("hocurve_p{p}_quality.json"));
+        run(
+            &format!("Gmsh measures hocurve's p = {p} mesh"),
+            Command::new(&python)
+                .arg(&script)
+                .args(["measure", &p.to_string()])
+                .arg(&ours_msh)
+                .arg(&measured),
+        )?;
+        let ours_quality: Value = serde_json::from_str(&std::fs::read_to_string(&measured)?)?;
+        let project = gmsh_run(&python, &script, "project", p, &out, None)?;
+        let elastic = gmsh_run(&python, &script, "elastic", p, &out, Some(timeout))?;
+        rows.push((p, ours, ours_quality, project, elastic));
+    }
+
+    println!();
+    println!(
+        "sphere in a box ({} threads for hocurve; Gmsh threads as reported), seconds",
+        rayon_threads()
+    );
+    println!(
+        "{:>2} {:>9} {:>9} | {:>9} {:>9} {:>6} | {:>9} {:>6} | {:>8} {:>8} {:>8} | {:>7} {:>7} {:>7}",
+        "p", "ours", "ours tot", "g.proj", "g.elast", "thr", "ours/prj", "≤2×", "Ĩ ours", "Ĩ proj", "Ĩ elast", "SJ ours", "SJ proj", "SJ el."
+    );
+    let mut all_met = true;
+    for (p, ours, ours_quality, project, elastic) in &rows {
+        let t = &ours["timings"];
+        let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+        let total = f(&t["total"]);
+        let curving = total - f(&t["read"]) - f(&t["write"]);
+        let proj_time = project
+            .as_ref()
+            .map_or(f64::NAN, |v| f(&v["set_order_seconds"]));
+        let elastic_time = elastic.as_ref().map_or(f64::NAN, |v| {
+            f(&v["set_order_seconds"]) + f(&v["optimize_seconds"])
+        });
+        let ratio = curving / proj_time;
+        let q = |v: &GmshRun, key: &str| v.as_ref().map_or(f64::NAN, |v| f(&v[key]));
+        let ours_min = f(&ours_quality["min_scaled_jacobian"]);
+        let better = ours_min > q(project, "min_scaled_jacobian");
+        let met = ratio <= 2.0 && better;
+        all_met &= met;
+        let elastic_text = if elastic.is_some() {
+            format!("{elastic_time:>9.2}")
+        } else {
+            format!("{:>9}", format!(">{timeout:.0}"))
+        };
+        println!(
+            "{p:>2} {curving:>9.2} {total:>9.2} | {proj_time:>9.2} {elastic_text} {:>6} | {ratio:>9.2} {:>6} | {ours_min:>8.4} {:>8.4} {:>8.4} | {:>7.3} {:>7.3} {:>7.3}",
+            project.as_ref().map_or(String::from("–"), |v| v["threads"].to_string()),
+            if met { "yes" } else { "no" },
+            q(project, "min_scaled_jacobian"),
+            q(elastic, "min_scaled_jacobian"),
+            f(&ours_quality["min_sj_gmsh"]),
+            q(project, "min_sj_gmsh"),
+            q(elastic, "min_sj_gmsh"),
+        );
+    }
+    println!("ours = hocurve's curving (nodes, boundary, elasticity, quality; without reading and writing); ours tot = with them.");
+    println!("Ĩ = min det J / max det J at degree-2p Gauss points (paper Eq. 8), SJ = Gmsh's minSJ; both measured by Gmsh on each mesh.");
+    println!(
+        "target (≤ 2× Gmsh's projection time, with a better min Ĩ than its projection) {} at every p",
+        if all_met { "met" } else { "NOT met" }
+    );
+    Ok(())
+}
+
+fn rayon_threads() -> String {
+    std::env::var("RAYON_NUM_THREADS").unwrap_or_else(|_| {
+        std::thread::available_parallelism()
+            .map(|n| n.to_string())
+            .unwrap_or_else(|_| "?".into())
+    })
+}
+
+/// Runs `bench_gmsh.py MODE p`; with a limit, stops the process that many seconds after the
+/// optimisation started (returns None then).
+fn gmsh_run(
+    python: &Path,
+    script: &Path,
+    mode: &str,
+    p: usize,
+    out: &Path,
+    limit: Option<f64>,
+) -> Result<GmshRun> {
+    let json: PathBuf = out.join(format!("gmsh_{mode}_p{p}.json"));
+    let started = PathBuf::from(format!("{}.started", json.display()));
+    for f in [&json, &started] {
+        let _ = std::fs::remove_file(f);
+    }
+    eprintln!("==> Gmsh {mode}, p = {p}");
+    let mut child = Command::new(python)
+        .arg(script)
+        .args([mode, &p.to_string()])
+        .arg(&json)
+        .spawn()
+        .context("starting Python")?;
+    let mut optimising_since: Option<Instant> = None;
+    loop {
+        if let Some(status) = child.try_wait()? {
+            if !status.success() {
+                bail!("Gmsh {mode} at p = {p} failed ({status})");
+            }
+            break;
+        }
+        if optimising_since.is_none() && started.exists() {
+            optimising_since = Some(Instant::now());
+        }
+        if let (Some(limit), Some(since)) = (limit, optimising_since) {
+            if since.elapsed().as_secs_f64() > limit {
+                child.kill()?;
+                child.wait()?;
+                eprintln!("    stopped after {limit:.0} s of optimisation");
+                return Ok(None);
+            }
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    Ok(Some(serde_json::from_str(&std::fs::read_to_string(
+        &json,
+    )?)?))
+}
