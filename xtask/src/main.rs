@@ -3,8 +3,9 @@
 //! It runs, in order, stopping at the first failure with a summary of the steps and their
 //! times:
 //! 1. `cargo fmt --check` and `cargo clippy` (warnings are errors);
-//! 2. `cargo test --workspace` (with `HOCURVE_SNAPSHOT_QUICK=1`: the slow sphere snapshots
-//!    are left to step 3);
+//! 2. the Python environment of step 5 (so that `tests/io_foreign_readers.rs` reads real
+//!    Gmsh/VTK files), then `cargo test --workspace` (with `HOCURVE_SNAPSHOT_QUICK=1`: the
+//!    slow sphere snapshots are left to step 3);
 //! 3. the golden snapshot suite (`tests/snapshots.rs`: NACA0012 at p = 1..5, triangles and
 //!    quadrilaterals, the sphere at p = 2..4, Fekete and equispaced; curved mesh as ASCII
 //!    `.vtu` and quality summary), once with `RAYON_NUM_THREADS=1` and once with `=2`;
@@ -163,6 +164,12 @@ fn verify_steps(
             )
         })?;
     }
+    // The Python environment first: `tests/io_foreign_readers.rs` reads Gmsh- and
+    // VTK-written meshes made with it, and skips (loudly, but passing) without it.
+    let offline = args.iter().any(|a| a == "--offline");
+    step(log, "Python environment (vtk, gmsh)", || {
+        python_env(offline).map(|_| ())
+    })?;
     step(log, "cargo test --workspace", || {
         run(
             "cargo test (sphere snapshots left to the snapshot suite)",
