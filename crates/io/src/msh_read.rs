@@ -554,8 +554,27 @@ impl<'a> Parser<'a> {
         }
     }
 
-    /// Stores an element of dimension `dim` (and, for the high-order reader, its record).
-    fn push_element(&mut self, dim: usize, element: Element, record: ElementRecord) {
+    /// Stores an element of dimension `dim` (and, for the high-order reader, its record:
+    /// file tag, where it was read, order).
+    fn push_element(
+        &mut self,
+        dim: usize,
+        kind: BlockKind,
+        vertices: Vec<u32>,
+        entity: i32,
+        tag: i128,
+        location: Location,
+    ) {
+        let element = Element {
+            kind: kind.kind,
+            vertices,
+            entity,
+        };
+        let record = ElementRecord {
+            tag,
+            location,
+            order: kind.order,
+        };
         if let Some(list) = self.by_dim.get_mut(dim) {
             list.push(element);
             if self.high_order {
@@ -1457,17 +1476,7 @@ impl<'a> Parser<'a> {
                 self.end_record(|| format!("element {tag}"))?;
                 *read += 1;
                 if let Some(kind) = kind {
-                    let element = Element {
-                        kind: kind.kind,
-                        vertices,
-                        entity,
-                    };
-                    let record = ElementRecord {
-                        tag: i128::from(tag),
-                        location,
-                        order: kind.order,
-                    };
-                    self.push_element(dim, element, record);
+                    self.push_element(dim, kind, vertices, entity, i128::from(tag), location);
                 }
             }
         }
@@ -1604,17 +1613,7 @@ impl<'a> Parser<'a> {
                 return Ok(());
             }
         }
-        let element = Element {
-            kind: kind.kind,
-            vertices,
-            entity,
-        };
-        let record = ElementRecord {
-            tag: i128::from(tag),
-            location,
-            order: kind.order,
-        };
-        self.push_element(dim, element, record);
+        self.push_element(dim, kind, vertices, entity, i128::from(tag), location);
         Ok(())
     }
 
