@@ -21,6 +21,7 @@ use hocurve_geodesic::{
 };
 use hocurve_mesh::{HighOrderMesh, LinearMesh, MeshError};
 use hocurve_nodes::{NodeFamily, NodesError};
+use hocurve_nurbs::vec3::{cross, dot, norm, sub};
 use hocurve_nurbs::GeometryModel;
 use hocurve_quality::{assess, MeshQuality, QualityError, QualityOptions};
 use serde::Serialize;
@@ -451,13 +452,7 @@ fn boundary_conditions(
 }
 
 fn parallel(a: &[f64; 3], b: &[f64; 3]) -> bool {
-    let c = [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ];
-    let norm = |v: &[f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
-    norm(&c) <= 1e-10 * norm(a) * norm(b)
+    norm(cross(*a, *b)) <= 1e-10 * norm(*a) * norm(*b)
 }
 
 /// Indices into `mesh.facets` of the boundary group `name` (dimension dim − 1).
@@ -546,11 +541,7 @@ fn plane_normal(
             for k in 1..corners - 1 {
                 let a = sub(x[k], x[0]);
                 let b = sub(x[k + 1], x[0]);
-                let n = [
-                    a[1] * b[2] - a[2] * b[1],
-                    a[2] * b[0] - a[0] * b[2],
-                    a[0] * b[1] - a[1] * b[0],
-                ];
+                let n = cross(a, b);
                 let sign = if dot(n, normal) < 0.0 { -1.0 } else { 1.0 };
                 for d in 0..3 {
                     normal[d] += sign * n[d];
@@ -558,10 +549,10 @@ fn plane_normal(
             }
         }
     }
-    let length = dot(normal, normal).sqrt();
+    let length = norm(normal);
     let size = points
         .iter()
-        .map(|p| dot(sub(*p, centre), sub(*p, centre)).sqrt())
+        .map(|p| norm(sub(*p, centre)))
         .fold(0.0, f64::max);
     if length.is_nan() || length <= 0.0 {
         return Err(CurveError::SlideGroupNotPlanar {
@@ -581,12 +572,4 @@ fn plane_normal(
         });
     }
     Ok(normal)
-}
-
-fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }

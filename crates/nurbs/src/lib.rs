@@ -26,7 +26,7 @@ pub mod model;
 pub mod naca;
 pub mod shapes;
 pub mod surface;
-pub(crate) mod vec3;
+pub mod vec3;
 
 pub use curve::NurbsCurve;
 pub use error::NurbsError;
