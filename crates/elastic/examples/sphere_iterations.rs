@@ -1,5 +1,5 @@
 //! Assembly and solve times (split into coarse set-up, smoother set-up and iterations) and
-//! two-level PCG iterations on the bundled sphere-in-a-box mesh (5695 tetrahedra) at
+//! p-multigrid PCG iterations on the bundled sphere-in-a-box mesh (5695 tetrahedra) at
 //! p = 1..MAX_P, with the nodes of the physical group "sphere" moved
 //! radially onto the unit sphere (the curving displacement) and "farfield" fixed.
 //!

@@ -5,11 +5,9 @@
 //! Every matrix entry therefore receives its contributions one colour after the other,
 //! in the same order whatever the number of threads: the matrix is bitwise reproducible.
 
-use std::collections::BTreeMap;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use hocurve_mesh::{HighOrderMesh, MeshError};
-use hocurve_nodes::Shape;
 use rayon::prelude::*;
 
 use crate::element_matrix::{
@@ -32,7 +30,6 @@ pub(crate) struct Assembled {
     pub graph: Adjacency,
     /// Cells around each node.
     pub cells_of_node: Adjacency,
-    pub references: BTreeMap<Shape, ReferenceElement>,
 }
 
 fn check_dim(mesh: &HighOrderMesh) -> Result<(), ElasticError> {
@@ -134,7 +131,6 @@ pub(crate) fn assemble(
         matrix: StiffnessMatrix::new((size, size), indptr, indices, data),
         graph,
         cells_of_node,
-        references,
     })
 }
 

@@ -1,7 +1,7 @@
 //! Block Jacobi: exact inverses of the diagonal blocks of A on a partition of the dofs into
 //! contiguous ranges, B = blockdiag(A_ii)⁻¹.
 //!
-//! The smoother of the two-level preconditioner uses one block per mesh entity: every
+//! The smoother of every p-multigrid level uses one block per mesh entity: every
 //! vertex, the interior nodes of every edge, of every face and of every cell (Pavarino and
 //! Widlund's p-version Schwarz splitting, without overlap). The global numbering lists each
 //! entity's nodes together (vertices, edges, faces, cells; see

@@ -84,18 +84,30 @@ impl Constraints {
             identity[n] = false;
             prescribed[n * dim..(n + 1) * dim].copy_from_slice(&value[..dim]);
         }
-        let mut first = Vec::with_capacity(nodes + 1);
+        let mut constraints = Self::from_directions(dim, count, directions, identity);
+        constraints.prescribed = prescribed;
+        constraints
+    }
+
+    /// Homogeneous constraints (u_p = 0) from each node's free directions.
+    pub fn from_directions(
+        dim: usize,
+        count: Vec<u8>,
+        directions: Vec<[[f64; 3]; 3]>,
+        identity: Vec<bool>,
+    ) -> Self {
+        let mut first = Vec::with_capacity(count.len() + 1);
         first.push(0);
         for &k in &count {
             first.push(first[first.len() - 1] + k as usize);
         }
         Constraints {
             dim,
+            prescribed: vec![0.0; count.len() * dim],
             count,
             directions,
             identity,
             first,
-            prescribed,
         }
     }
 

@@ -4,10 +4,10 @@
 //! The unknown is the displacement of every node of a [`HighOrderMesh`], discretised with
 //! continuous isoparametric Lagrange elements of the mesh's order on every element type
 //! ([`assemble_stiffness`]). Boundary nodes are prescribed or slide along a wall
-//! ([`BoundaryConditions`]); the condensed system is solved by a two-level preconditioned
-//! conjugate gradient (coarse p = 1 problem on the vertices + Chebyshev smoother with block
-//! Jacobi over the dofs of each vertex, edge, face and cell interior)
-//! or by a sparse Cholesky factorisation ([`SolverKind`]). Results do not depend on the
+//! ([`BoundaryConditions`]); the condensed system is solved by conjugate gradients preconditioned
+//! with a p-multigrid V-cycle (orders p, p − 1, …, 1 on the same mesh, a Chebyshev smoother
+//! with block Jacobi over the dofs of each vertex, edge, face and cell interior, and an exact
+//! p = 1 solve), whose iteration count stays nearly flat in p, or by a sparse Cholesky factorisation ([`SolverKind`]). Results do not depend on the
 //! number of threads, bit for bit.
 //!
 //! ```
@@ -47,12 +47,13 @@ mod condensation;
 mod element_matrix;
 mod error_norm;
 mod material;
+mod p_multigrid;
 mod pcg;
 mod reference_element;
+mod smoother;
 mod solve;
 mod sparse;
 mod sparsity;
-mod two_level;
 mod vector_ops;
 
 pub use assembly::{assemble_load, assemble_stiffness, BodyForce, StiffnessMatrix};

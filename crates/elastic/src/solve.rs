@@ -7,9 +7,9 @@ use hocurve_mesh::HighOrderMesh;
 use crate::assembly::{assemble, assemble_load, Assembled, BodyForce};
 use crate::block_matrix::{BlockOperator, BlockPattern};
 use crate::condensation::{condense_matrix, Constraints};
+use crate::p_multigrid::PMultigrid;
 use crate::pcg::{pcg, LinearOperator};
 use crate::sparse::Cholesky;
-use crate::two_level::TwoLevel;
 use crate::vector_ops::{norm, residual, spmv};
 use crate::{BoundaryConditions, ElasticError, Material};
 
@@ -22,7 +22,7 @@ pub enum SolverKind {
     Auto,
     /// Sparse Cholesky (faer) of the condensed system.
     Direct,
-    /// Conjugate gradients with the two-level preconditioner.
+    /// Conjugate gradients with the p-multigrid preconditioner.
     Cg,
 }
 
@@ -35,7 +35,7 @@ pub struct SolverOptions {
     pub tolerance: f64,
     /// CG iteration limit (default 2000).
     pub max_iterations: usize,
-    /// Degree of the Chebyshev smoother of the two-level preconditioner (default 3).
+    /// Degree of the Chebyshev smoother of every p-multigrid level (default 3).
     pub smoother_degree: usize,
     /// `Auto` solves 2D problems with at most this many unknowns directly.
     pub direct_limit_2d: usize,
@@ -107,7 +107,7 @@ pub fn solve_displacement(
 }
 
 /// Solves −div σ(u) = f in the mesh with the boundary conditions `bc` (the paper's Eqs.
-/// (1)–(3); f = 0 for mesh curving), by a direct or a two-level PCG solve of the condensed
+/// (1)–(3); f = 0 for mesh curving), by a direct or a p-multigrid PCG solve of the condensed
 /// system. The true relative residual is always computed; an error if it exceeds
 /// max(1e-8, `options.tolerance`).
 pub fn solve_displacement_with_load(
@@ -127,7 +127,6 @@ pub fn solve_displacement_with_load(
         matrix: stiffness,
         graph,
         cells_of_node,
-        references,
     } = assemble(mesh, material)?;
     let dim = mesh.dim;
     let constraints = Constraints::new(mesh.nodes.len(), dim, bc);
@@ -182,13 +181,13 @@ pub fn solve_displacement_with_load(
                     Some(s) => s,
                     None => &matrix,
                 };
-                let mut preconditioner = TwoLevel::new(
+                let mut preconditioner = PMultigrid::new(
                     &matrix,
                     smoothing_operator,
                     &constraints,
                     mesh,
                     &cells_of_node,
-                    &references,
+                    material,
                     options.smoother_degree,
                 )?;
                 coarse_setup = preconditioner.coarse_seconds;

@@ -4,7 +4,6 @@
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::Side;
-use rayon::prelude::*;
 
 use crate::{ElasticError, StiffnessMatrix};
 
@@ -56,9 +55,11 @@ pub(crate) fn transpose(a: &StiffnessMatrix) -> StiffnessMatrix {
     StiffnessMatrix::new((ncols, nrows), out_ptr, out_idx, out_val)
 }
 
-/// A B, row by row in parallel; each row is accumulated in a fixed order (A's entries in
+/// A B (tests: Galerkin products), row by row in parallel; each row is accumulated in a fixed order (A's entries in
 /// order, then B's), so the result is thread-count independent.
+#[cfg(test)]
 pub(crate) fn product(a: &StiffnessMatrix, b: &StiffnessMatrix) -> StiffnessMatrix {
+    use rayon::prelude::*;
     let (a_ptr, a_idx, a_val) = raw(a);
     let (b_ptr, b_idx, b_val) = raw(b);
     let ncols = b.cols();

@@ -1,4 +1,4 @@
-//! The solvers: CG against direct, iteration counts of the two-level preconditioner,
+//! The solvers: CG against direct, iteration counts of the p-multigrid preconditioner,
 //! sliding walls, thread-count independence and error cases.
 
 mod common;
@@ -69,21 +69,30 @@ fn cg_and_direct_agree_in_3d() {
 }
 
 #[test]
-fn two_level_iterations_stay_flat_in_p() {
-    let linear = cube(3, Fill::Tet, 0.2);
-    let mut counts = Vec::new();
-    for p in 1..=5 {
-        let mesh = high_order(&linear, p);
-        let solution = solve(&mesh, &clamped_and_pushed(&mesh), SolverKind::Cg);
-        println!(
-            "p = {p}: {} dofs, {} iterations, residual {:.1e}, solve {:.3} s",
-            solution.dofs, solution.iterations, solution.relative_residual, solution.timings.solve
-        );
-        counts.push(solution.iterations);
+fn multigrid_iterations_stay_flat_in_p() {
+    for fill in [Fill::Tet, Fill::HexPrism] {
+        let linear = cube(3, fill, 0.2);
+        let mut counts = Vec::new();
+        for p in 1..=5 {
+            let mesh = high_order(&linear, p);
+            let solution = solve(&mesh, &clamped_and_pushed(&mesh), SolverKind::Cg);
+            println!(
+                "{fill:?} p = {p}: {} dofs, {} iterations, residual {:.1e}, solve {:.3} s",
+                solution.dofs,
+                solution.iterations,
+                solution.relative_residual,
+                solution.timings.solve
+            );
+            counts.push(solution.iterations);
+        }
+        // At p = 1 the coarse problem is the problem: the preconditioner is exact.
+        assert!(counts[0] <= 2, "{fill:?}: {counts:?}");
+        // Nearly flat from p = 2 on (measured: tets 16, 17, 19, 21; hexes and prisms
+        // 15, 14, 14, 14).
+        let low = counts[1..].iter().min().copied().unwrap_or(0);
+        let high = counts[1..].iter().max().copied().unwrap_or(0);
+        assert!(high as f64 <= 1.6 * low as f64, "{fill:?}: {counts:?}");
     }
-    // At p = 1 the coarse space is the whole space: the preconditioner is exact.
-    assert!(counts[0] <= 2, "{counts:?}");
-    assert!(counts.iter().all(|&c| c < 200), "{counts:?}");
 }
 
 #[test]

@@ -273,6 +273,40 @@ impl HighOrderMesh {
         })
     }
 
+    /// The straight-sided mesh of another `order` (same node family) on this mesh's
+    /// vertices, cells and facets: the vertices, edges, faces and cells keep their numbers,
+    /// so a node's entity in one order's [`NodeLayout`] names the same entity in the other.
+    /// The orders of a p-multigrid hierarchy are built this way. Curved edges are not
+    /// carried over: only the vertex positions are used.
+    pub fn straight_of_order(&self, order: usize) -> Result<HighOrderMesh, MeshError> {
+        let linear_element = |e: &HighOrderElement| -> Result<crate::Element, MeshError> {
+            let corners = e.kind.shape()?.num_vertices();
+            Ok(crate::Element {
+                kind: e.kind,
+                vertices: e.nodes[..corners.min(e.nodes.len())].to_vec(),
+                entity: e.entity,
+            })
+        };
+        let linear = LinearMesh {
+            dim: self.dim,
+            vertices: self.nodes[..self.layout.num_vertices.min(self.nodes.len())].to_vec(),
+            cells: self
+                .cells
+                .iter()
+                .map(linear_element)
+                .collect::<Result<_, _>>()?,
+            facets: self
+                .facets
+                .iter()
+                .map(linear_element)
+                .collect::<Result<_, _>>()?,
+            physical_groups: self.physical_groups.clone(),
+            entity_physicals: self.entity_physicals.clone(),
+        };
+        linear.validate()?;
+        Self::straight_sided(&linear, order, self.family)
+    }
+
     /// Number of nodes the layout predicts: V + E(p−1) + Σ faces' interiors + Σ cells'
     /// interiors.
     pub fn expected_node_count(&self) -> usize {

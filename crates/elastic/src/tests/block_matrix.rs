@@ -48,7 +48,7 @@ fn block_mat_vec_equals_the_csr_one() {
 #[ignore]
 fn mat_vec_timings() {
     use hocurve_nodes::NodeFamily;
-    let linear = crate::two_level::tests::tet_cube(6);
+    let linear = crate::p_multigrid::tests::tet_cube(6);
     let mesh = hocurve_mesh::HighOrderMesh::from_linear(&linear, 4, NodeFamily::Fekete).unwrap();
     let assembled = crate::assembly::assemble(&mesh, &crate::Material::default()).unwrap();
     let mut bc = BoundaryConditions::default();

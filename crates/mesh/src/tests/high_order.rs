@@ -303,3 +303,60 @@ fn pyramids_and_bad_vertex_ids_are_clear_errors() {
     let err = HighOrderMesh::from_linear(&mesh, 2, NodeFamily::Equispaced).unwrap_err();
     assert!(err.to_string().contains("vertex 9"), "{err}");
 }
+
+#[test]
+fn straight_of_order_rebuilds_the_mesh_of_another_order_with_the_same_entities() {
+    // A hex, a prism and a tet sharing faces, with a declared boundary facet.
+    let mesh = LinearMesh {
+        dim: 3,
+        vertices: vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [1.0, 0.0, 1.0],
+            [1.0, 1.0, 1.0],
+            [0.0, 1.0, 1.0],
+            [2.0, 0.0, 0.0],
+            [2.0, 0.0, 1.0],
+            [0.5, 0.5, 2.0],
+        ],
+        cells: vec![
+            Element {
+                kind: ElementType::Hex,
+                vertices: (0..8).collect(),
+                entity: 1,
+            },
+            Element {
+                kind: ElementType::Prism,
+                vertices: vec![1, 8, 2, 5, 9, 6],
+                entity: 1,
+            },
+            Element {
+                kind: ElementType::Tet,
+                vertices: vec![4, 5, 6, 10],
+                entity: 1,
+            },
+        ],
+        facets: vec![Element {
+            kind: ElementType::Quad,
+            vertices: vec![0, 1, 5, 4],
+            entity: 7,
+        }],
+        ..Default::default()
+    };
+    for family in NodeFamily::ALL {
+        let fine = HighOrderMesh::from_linear(&mesh, 5, family).unwrap();
+        for q in 1..=6 {
+            let direct = HighOrderMesh::from_linear(&mesh, q, family).unwrap();
+            let rebuilt = fine.straight_of_order(q).unwrap();
+            assert_eq!(rebuilt.order, q);
+            assert_eq!(rebuilt.family, family);
+            assert_eq!(rebuilt.nodes, direct.nodes, "{family} q = {q}");
+            assert_eq!(rebuilt.cells, direct.cells);
+            assert_eq!(rebuilt.facets, direct.facets);
+            assert_eq!(rebuilt.layout, direct.layout);
+        }
+    }
+}

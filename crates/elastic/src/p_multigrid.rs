@@ -1,0 +1,405 @@
+//! The preconditioner of the PCG solver: a p-multigrid V-cycle over the orders
+//! p → p − 1 → … → 1 on the same mesh, with an exact solve of the p = 1 problem on the
+//! vertices.
+//!
+//! Each coarser order q is the straight-sided mesh of order q on the same vertices and cells
+//! ([`HighOrderMesh::straight_of_order`]), its stiffness matrix assembled afresh (for
+//! straight simplices this is the Galerkin product Pᵀ A P, at a fraction of its cost) and
+//! condensed with the constraints of the finest level carried over entity by entity: a
+//! node of order q on a vertex, edge, face or cell takes the free directions of the order-p
+//! nodes of that entity (prescribed facets stay fixed, sliding facets slide in the same
+//! plane), with homogeneous values since the cycle works on corrections. The prolongation
+//! P from order q to order r is Lagrange interpolation: an order-r node takes the values of
+//! the order-q basis of a cell containing it at its reference position (exact, since the
+//! order-q space lies inside the order-r one), rotated into the nodes' free directions.
+//!
+//! One application z = M r at a level with operator A and smoother S (see
+//! [`crate::smoother`]), symmetric so that PCG stays valid:
+//!
+//! z = S r;  e = M_c Pᵀ (r − A z);  z ← z + P e;  z ← z + S (r − A z),
+//!
+//! with M_c the V-cycle of the next coarser order and, at p = 1, the sparse Cholesky
+//! solve. Every M_c is SPD, so M is SPD whenever the smoothers converge (the symmetric two-grid argument,
+//! applied level by level).
+
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+use hocurve_mesh::HighOrderMesh;
+use hocurve_nodes::{LagrangeBasis, ReferenceNodes, Shape};
+use rayon::prelude::*;
+
+use crate::assembly::assemble;
+use crate::block_jacobi::{dof_cuts, entity_node_cuts};
+use crate::condensation::{condense_matrix, Constraints};
+use crate::pcg::{LinearOperator, Preconditioner};
+use crate::smoother::{ChebyshevSmoother, SmootherScratch};
+use crate::sparse::{from_rows, transpose, Cholesky};
+use crate::sparsity::Adjacency;
+use crate::vector_ops::spmv;
+use crate::{ElasticError, Material, StiffnessMatrix};
+
+/// The orders of the hierarchy for a mesh of order p: p, p − 1, …, 1.
+///
+/// Measured on the sphere fixture (examples/sphere_iterations.rs): dropping one order per
+/// level keeps the PCG iteration count nearly flat in p; halving the order costs more
+/// iterations than the cheaper intermediate levels save.
+pub(crate) fn level_orders(p: usize) -> Vec<usize> {
+    (1..=p.max(1)).rev().collect()
+}
+
+/// The operator of a level: the finest level's is the caller's.
+enum LevelOperator<'a> {
+    Finest {
+        matrix: &'a StiffnessMatrix,
+        smoothing: &'a dyn LinearOperator,
+    },
+    Coarse(StiffnessMatrix),
+}
+
+impl LevelOperator<'_> {
+    fn matrix(&self) -> &StiffnessMatrix {
+        match self {
+            LevelOperator::Finest { matrix, .. } => matrix,
+            LevelOperator::Coarse(m) => m,
+        }
+    }
+
+    /// The operator the smoother and the residuals use.
+    fn smoothing(&self) -> &dyn LinearOperator {
+        match self {
+            LevelOperator::Finest { smoothing, .. } => *smoothing,
+            LevelOperator::Coarse(m) => m,
+        }
+    }
+}
+
+/// A level above the coarsest.
+struct Level<'a> {
+    operator: LevelOperator<'a>,
+    smoother: ChebyshevSmoother,
+    /// From the next coarser level's unknowns to this level's.
+    prolongation: StiffnessMatrix,
+    restriction: StiffnessMatrix,
+    smoothing: SmootherScratch,
+    /// This level's residual and post-smoothing correction.
+    residual: Vec<f64>,
+    correction: Vec<f64>,
+    /// The next coarser level's right-hand side and solution.
+    coarse_rhs: Vec<f64>,
+    coarse_solution: Vec<f64>,
+}
+
+/// The p-multigrid preconditioner.
+pub(crate) struct PMultigrid<'a> {
+    /// Finest first; the coarsest (p = 1) level is `coarsest`.
+    levels: Vec<Level<'a>>,
+    /// None when the p = 1 problem has no unknowns (every vertex fixed).
+    coarsest: Option<Cholesky>,
+    /// Seconds spent on the coarse levels (meshes, assembly, prolongations, factorisation)
+    /// and on the smoothers (block inverses, spectrum estimates).
+    pub coarse_seconds: f64,
+    pub smoother_seconds: f64,
+}
+
+/// What the set-up needs of a level besides its matrix.
+struct LevelMesh<'m> {
+    mesh: std::borrow::Cow<'m, HighOrderMesh>,
+    constraints: std::borrow::Cow<'m, Constraints>,
+    cells_of_node: std::borrow::Cow<'m, Adjacency>,
+}
+
+impl<'a> PMultigrid<'a> {
+    /// The preconditioner of `matrix`, the condensed stiffness matrix of `mesh` under
+    /// `constraints`; the finest smoother's mat-vecs go through `a`, an operator equal (or
+    /// close) to `matrix`. `degree` is the Chebyshev degree of every smoother.
+    #[allow(clippy::too_many_arguments)]
+    pub fn new(
+        matrix: &'a StiffnessMatrix,
+        a: &'a dyn LinearOperator,
+        constraints: &Constraints,
+        mesh: &HighOrderMesh,
+        cells_of_node: &Adjacency,
+        material: &Material,
+        degree: usize,
+    ) -> Result<Self, ElasticError> {
+        let start = Instant::now();
+        if mesh.order <= 1 {
+            // The coarse problem is the problem: solve it exactly.
+            return Ok(PMultigrid {
+                levels: Vec::new(),
+                coarsest: Some(Cholesky::new(matrix, "coarse matrix")?),
+                coarse_seconds: start.elapsed().as_secs_f64(),
+                smoother_seconds: 0.0,
+            });
+        }
+        let mut level_meshes = vec![LevelMesh {
+            mesh: std::borrow::Cow::Borrowed(mesh),
+            constraints: std::borrow::Cow::Borrowed(constraints),
+            cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
+        }];
+        let mut matrices = Vec::new();
+        let mut orders = vec![mesh.order];
+        for q in level_orders(mesh.order).into_iter().skip(1) {
+            let coarse = mesh.straight_of_order(q)?;
+            let coarse_constraints = carried_constraints(mesh, constraints, &coarse);
+            if coarse_constraints.len() == 0 {
+                break;
+            }
+            let assembled = assemble(&coarse, material)?;
+            matrices.push(condense_matrix(
+                &assembled.matrix,
+                &assembled.graph,
+                &coarse_constraints,
+            ));
+            orders.push(q);
+            level_meshes.push(LevelMesh {
+                mesh: std::borrow::Cow::Owned(coarse),
+                constraints: std::borrow::Cow::Owned(coarse_constraints),
+                cells_of_node: std::borrow::Cow::Owned(assembled.cells_of_node),
+            });
+        }
+        let prolongations = level_meshes
+            .windows(2)
+            .map(|pair| prolongation(&pair[0], &pair[1]))
+            .collect::<Result<Vec<_>, _>>()?;
+        // The last matrix (p = 1 if the hierarchy reached it) is factorised; if the
+        // hierarchy stopped early (no free vertex), the last level has no correction.
+        let coarsest_matrix = if orders.last() == Some(&1) && orders.len() > 1 {
+            matrices.pop()
+        } else {
+            None
+        };
+        let coarsest = coarsest_matrix
+            .map(|m| Cholesky::new(&m, "coarse matrix"))
+            .transpose()?;
+        let coarse_seconds = start.elapsed().as_secs_f64();
+
+        let start = Instant::now();
+        let mut levels = Vec::new();
+        let mut coarse_matrices = matrices.into_iter();
+        let mut prolongations = prolongations.into_iter();
+        for (i, level) in level_meshes.iter().enumerate() {
+            let operator = if i == 0 {
+                LevelOperator::Finest {
+                    matrix,
+                    smoothing: a,
+                }
+            } else if let Some(m) = coarse_matrices.next() {
+                LevelOperator::Coarse(m)
+            } else {
+                break; // the coarsest, factorised above
+            };
+            let cuts = dof_cuts(&entity_node_cuts(&level.mesh), &level.constraints.first);
+            let smoother =
+                ChebyshevSmoother::new(operator.matrix(), operator.smoothing(), &cuts, degree);
+            let size = level.constraints.len();
+            let prolongation = prolongations
+                .next()
+                .unwrap_or_else(|| from_rows(0, vec![Vec::new(); size]));
+            let restriction = transpose(&prolongation);
+            let coarse_size = prolongation.cols();
+            levels.push(Level {
+                operator,
+                smoother,
+                prolongation,
+                restriction,
+                smoothing: SmootherScratch::new(size),
+                residual: vec![0.0; size],
+                correction: vec![0.0; size],
+                coarse_rhs: vec![0.0; coarse_size],
+                coarse_solution: vec![0.0; coarse_size],
+            });
+        }
+        let smoother_seconds = start.elapsed().as_secs_f64();
+        Ok(PMultigrid {
+            levels,
+            coarsest,
+            coarse_seconds,
+            smoother_seconds,
+        })
+    }
+}
+
+/// The free directions of the nodes of `coarse` (the same vertices, edges, faces and
+/// cells as `fine`, another order), taken from the nodes of `fine` on the same entity;
+/// prescribed values are zero.
+fn carried_constraints(
+    fine: &HighOrderMesh,
+    fine_constraints: &Constraints,
+    coarse: &HighOrderMesh,
+) -> Constraints {
+    let nodes = coarse.nodes.len();
+    let dim = fine_constraints.dim;
+    let mut count = Vec::with_capacity(nodes);
+    let mut directions = Vec::with_capacity(nodes);
+    let mut identity = Vec::with_capacity(nodes);
+    for n in 0..nodes {
+        match same_entity_node(coarse, fine, n) {
+            Some(m) => {
+                count.push(fine_constraints.count[m]);
+                directions.push(fine_constraints.directions[m]);
+                identity.push(fine_constraints.identity[m]);
+            }
+            // Unreachable for a coarser order (every entity with nodes at order q has
+            // nodes at order p > q); a free node keeps the preconditioner valid anyway.
+            None => {
+                let mut rows = [[0.0; 3]; 3];
+                (0..3).for_each(|d| rows[d][d] = 1.0);
+                count.push(dim as u8);
+                directions.push(rows);
+                identity.push(true);
+            }
+        }
+    }
+    Constraints::from_directions(dim, count, directions, identity)
+}
+
+/// A node of `to` on the same mesh entity (vertex, edge, face or cell interior) as node
+/// `n` of `from`; both meshes share their vertices, edges, faces and cells.
+fn same_entity_node(from: &HighOrderMesh, to: &HighOrderMesh, n: usize) -> Option<usize> {
+    let (lf, lt) = (&from.layout, &to.layout);
+    if n < lf.num_vertices {
+        return Some(n);
+    }
+    let edge_nodes = from.order.saturating_sub(1);
+    let edges_end = lf.num_vertices + lf.num_edges * edge_nodes;
+    if n < edges_end {
+        let e = (n - lf.num_vertices) / edge_nodes;
+        return (to.order >= 2).then(|| lt.edge_first_node(e, to.order));
+    }
+    for (first_from, first_to) in [
+        (&lf.face_first_node, &lt.face_first_node),
+        (&lf.cell_first_node, &lt.cell_first_node),
+    ] {
+        let end = first_from.last().map_or(0, |&e| e as usize);
+        if n < end {
+            let k = first_from
+                .partition_point(|&s| s as usize <= n)
+                .checked_sub(1)?;
+            let (start, stop) = (*first_to.get(k)?, *first_to.get(k + 1)?);
+            return (stop > start).then_some(start as usize);
+        }
+    }
+    None
+}
+
+/// P from the unknowns of `coarse` to those of `fine` (consecutive levels).
+fn prolongation(fine: &LevelMesh, coarse: &LevelMesh) -> Result<StiffnessMatrix, ElasticError> {
+    let (fm, cm) = (&*fine.mesh, &*coarse.mesh);
+    let (fc, cc) = (&*fine.constraints, &*coarse.constraints);
+    // Per shape: the order-q basis at each order-p reference node, nonzero weights only.
+    let mut weights: BTreeMap<Shape, Vec<Vec<(usize, f64)>>> = BTreeMap::new();
+    for cell in &fm.cells {
+        let shape = cell.kind.shape()?;
+        if weights.contains_key(&shape) {
+            continue;
+        }
+        let fine_nodes = ReferenceNodes::try_new(shape, fm.order, fm.family)?;
+        let basis = LagrangeBasis::new(&ReferenceNodes::try_new(shape, cm.order, cm.family)?)?;
+        let mut values = vec![0.0; basis.len()];
+        let table = fine_nodes
+            .points()
+            .iter()
+            .map(|&xi| {
+                basis.eval(xi, &mut values);
+                values
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, w)| w.abs() > 1e-14)
+                    .map(|(j, &w)| (j, w))
+                    .collect()
+            })
+            .collect();
+        weights.insert(shape, table);
+    }
+    let dim = fc.dim;
+    let rows: Vec<Vec<(u32, f64)>> = (0..fm.nodes.len())
+        .into_par_iter()
+        .flat_map_iter(|n| {
+            let mut entries: Vec<(usize, f64)> = Vec::new();
+            if let Some(&c) = fine.cells_of_node.row(n).first() {
+                let (fine_cell, coarse_cell) = (&fm.cells[c as usize], &cm.cells[c as usize]);
+                let table = fine_cell.kind.shape().ok().and_then(|s| weights.get(&s));
+                let local = fine_cell.nodes.iter().position(|&x| x as usize == n);
+                if let (Some(table), Some(local)) = (table, local) {
+                    entries.extend(
+                        table[local]
+                            .iter()
+                            .map(|&(j, w)| (coarse_cell.nodes[j] as usize, w)),
+                    );
+                }
+            }
+            entries.sort_by_key(|e| e.0);
+            (0..fc.count[n] as usize).map(move |i| {
+                let qn = &fc.directions[n];
+                let mut row = Vec::new();
+                for &(v, w) in &entries {
+                    let qv = &cc.directions[v];
+                    for j in 0..cc.count[v] as usize {
+                        let q: f64 = (0..dim).map(|c| qn[i][c] * qv[j][c]).sum();
+                        if q != 0.0 {
+                            row.push(((cc.first[v] + j) as u32, w * q));
+                        }
+                    }
+                }
+                row
+            })
+        })
+        .collect();
+    Ok(from_rows(cc.len(), rows))
+}
+
+/// One V-cycle z = M r from the first of `levels` down to `coarsest`.
+fn v_cycle(levels: &mut [Level], coarsest: Option<&Cholesky>, r: &[f64], z: &mut [f64]) {
+    let Some((level, coarser)) = levels.split_first_mut() else {
+        match coarsest {
+            Some(c) => {
+                z.copy_from_slice(r);
+                c.solve_in_place(z);
+            }
+            None => z.iter_mut().for_each(|v| *v = 0.0),
+        }
+        return;
+    };
+    let a = level.operator.smoothing();
+    level.smoother.apply(a, r, z, &mut level.smoothing);
+    if !level.coarse_rhs.is_empty() {
+        a.residual(r, z, &mut level.residual);
+        spmv(&level.restriction, &level.residual, &mut level.coarse_rhs);
+        v_cycle(
+            coarser,
+            coarsest,
+            &level.coarse_rhs,
+            &mut level.coarse_solution,
+        );
+        spmv(
+            &level.prolongation,
+            &level.coarse_solution,
+            &mut level.correction,
+        );
+        z.par_iter_mut()
+            .zip(&level.correction)
+            .for_each(|(zi, ci)| *zi += ci);
+    }
+    a.residual(r, z, &mut level.residual);
+    level.smoother.apply(
+        a,
+        &level.residual,
+        &mut level.correction,
+        &mut level.smoothing,
+    );
+    z.par_iter_mut()
+        .zip(&level.correction)
+        .for_each(|(zi, ci)| *zi += ci);
+}
+
+impl Preconditioner for PMultigrid<'_> {
+    fn apply(&mut self, r: &[f64], z: &mut [f64]) {
+        v_cycle(&mut self.levels, self.coarsest.as_ref(), r, z);
+    }
+}
+
+#[cfg(test)]
+#[path = "tests/p_multigrid.rs"]
+pub(crate) mod tests;
