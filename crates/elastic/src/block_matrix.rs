@@ -176,14 +176,14 @@ impl BlockPattern {
 }
 
 /// A condensed matrix for mat-vecs: its node-block pattern with an f32 copy of its values.
-pub(crate) struct BlockOperator<'a> {
-    pattern: &'a BlockPattern,
+pub(crate) struct BlockOperator {
+    pattern: BlockPattern,
     values: Vec<f32>,
 }
 
-impl<'a> BlockOperator<'a> {
+impl BlockOperator {
     /// A copy of A's values rounded to f32.
-    pub fn single(pattern: &'a BlockPattern, a: &StiffnessMatrix) -> Self {
+    pub fn single(pattern: BlockPattern, a: &StiffnessMatrix) -> Self {
         BlockOperator {
             pattern,
             values: a.data().par_iter().map(|&v| v as f32).collect(),

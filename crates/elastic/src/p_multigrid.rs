@@ -31,6 +31,7 @@ use rayon::prelude::*;
 
 use crate::assembly::assemble;
 use crate::block_jacobi::{dof_cuts, entity_node_cuts};
+use crate::block_matrix::{BlockOperator, BlockPattern};
 use crate::condensation::{condense_matrix, Constraints};
 use crate::pcg::{LinearOperator, Preconditioner};
 use crate::smoother::{ChebyshevSmoother, SmootherScratch};
@@ -48,35 +49,12 @@ pub(crate) fn level_orders(p: usize) -> Vec<usize> {
     (1..=p.max(1)).rev().collect()
 }
 
-/// The operator of a level: the finest level's is the caller's.
-enum LevelOperator<'a> {
-    Finest {
-        matrix: &'a StiffnessMatrix,
-        smoothing: &'a dyn LinearOperator,
-    },
-    Coarse(StiffnessMatrix),
-}
-
-impl LevelOperator<'_> {
-    fn matrix(&self) -> &StiffnessMatrix {
-        match self {
-            LevelOperator::Finest { matrix, .. } => matrix,
-            LevelOperator::Coarse(m) => m,
-        }
-    }
-
-    /// The operator the smoother and the residuals use.
-    fn smoothing(&self) -> &dyn LinearOperator {
-        match self {
-            LevelOperator::Finest { smoothing, .. } => *smoothing,
-            LevelOperator::Coarse(m) => m,
-        }
-    }
-}
-
 /// A level above the coarsest.
 struct Level<'a> {
-    operator: LevelOperator<'a>,
+    /// The operator of the smoother and the residuals: the caller's on the finest level,
+    /// an f32 node-block copy of the matrix on the others (the f64 matrix is dropped once
+    /// the smoother is set up).
+    operator: Box<dyn LinearOperator + 'a>,
     smoother: ChebyshevSmoother,
     /// From the next coarser level's unknowns to this level's.
     prolongation: StiffnessMatrix,
@@ -139,6 +117,7 @@ impl<'a> PMultigrid<'a> {
             cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
         }];
         let mut matrices = Vec::new();
+        let mut patterns = Vec::new();
         let mut orders = vec![mesh.order];
         for q in level_orders(mesh.order).into_iter().skip(1) {
             let coarse = mesh.straight_of_order(q)?;
@@ -147,11 +126,14 @@ impl<'a> PMultigrid<'a> {
                 break;
             }
             let assembled = assemble(&coarse, material)?;
-            matrices.push(condense_matrix(
-                &assembled.matrix,
+            let condensed =
+                condense_matrix(&assembled.matrix, &assembled.graph, &coarse_constraints);
+            patterns.push(BlockPattern::new(
+                &condensed,
                 &assembled.graph,
                 &coarse_constraints,
             ));
+            matrices.push(condensed);
             orders.push(q);
             level_meshes.push(LevelMesh {
                 mesh: std::borrow::Cow::Owned(coarse),
@@ -177,22 +159,27 @@ impl<'a> PMultigrid<'a> {
 
         let start = Instant::now();
         let mut levels = Vec::new();
-        let mut coarse_matrices = matrices.into_iter();
+        let mut coarse_matrices = matrices.into_iter().zip(patterns);
         let mut prolongations = prolongations.into_iter();
         for (i, level) in level_meshes.iter().enumerate() {
-            let operator = if i == 0 {
-                LevelOperator::Finest {
-                    matrix,
-                    smoothing: a,
-                }
-            } else if let Some(m) = coarse_matrices.next() {
-                LevelOperator::Coarse(m)
+            let cuts = dof_cuts(&entity_node_cuts(&level.mesh), &level.constraints.first);
+            let (smoother, operator): (_, Box<dyn LinearOperator>) = if i == 0 {
+                (
+                    ChebyshevSmoother::new(matrix, a, &cuts, degree),
+                    Box::new(a),
+                )
+            } else if let Some((m, pattern)) = coarse_matrices.next() {
+                let operator: Box<dyn LinearOperator> = match pattern {
+                    Some(p) => Box::new(BlockOperator::single(p, &m)),
+                    None => Box::new(m.clone()),
+                };
+                (
+                    ChebyshevSmoother::new(&m, &*operator, &cuts, degree),
+                    operator,
+                )
             } else {
                 break; // the coarsest, factorised above
             };
-            let cuts = dof_cuts(&entity_node_cuts(&level.mesh), &level.constraints.first);
-            let smoother =
-                ChebyshevSmoother::new(operator.matrix(), operator.smoothing(), &cuts, degree);
             let size = level.constraints.len();
             let prolongation = prolongations
                 .next()
@@ -362,7 +349,7 @@ fn v_cycle(levels: &mut [Level], coarsest: Option<&Cholesky>, r: &[f64], z: &mut
         }
         return;
     };
-    let a = level.operator.smoothing();
+    let a = &*level.operator;
     level.smoother.apply(a, r, z, &mut level.smoothing);
     if !level.coarse_rhs.is_empty() {
         a.residual(r, z, &mut level.residual);

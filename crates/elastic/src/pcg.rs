@@ -30,13 +30,19 @@ fn xmy(x: &[f64], y: &mut [f64]) {
         .for_each(|(yi, xi)| *yi = xi - *yi);
 }
 
+impl<T: LinearOperator + ?Sized> LinearOperator for &T {
+    fn apply(&self, x: &[f64], y: &mut [f64]) {
+        (**self).apply(x, y);
+    }
+}
+
 impl LinearOperator for StiffnessMatrix {
     fn apply(&self, x: &[f64], y: &mut [f64]) {
         spmv(self, x, y);
     }
 }
 
-impl LinearOperator for BlockOperator<'_> {
+impl LinearOperator for BlockOperator {
     fn apply(&self, x: &[f64], y: &mut [f64]) {
         BlockOperator::apply(self, x, y);
     }

@@ -176,7 +176,7 @@ pub fn solve_displacement_with_load(
                 // one: block_matrix::tests::mat_vec_timings); CG's own mat-vec and the
                 // residual check stay in f64 CSR (the f64 block form is no faster).
                 let pattern = BlockPattern::new(&matrix, &graph, &constraints);
-                let smoothing = pattern.as_ref().map(|p| BlockOperator::single(p, &matrix));
+                let smoothing = pattern.map(|p| BlockOperator::single(p, &matrix));
                 let smoothing_operator: &dyn LinearOperator = match &smoothing {
                     Some(s) => s,
                     None => &matrix,

@@ -36,7 +36,7 @@ fn block_mat_vec_equals_the_csr_one() {
         .iter()
         .zip(&expected)
         .all(|(a, b)| (a - b).abs() < 1e-14 * scale));
-    BlockOperator::single(&pattern, &a).apply(&x, &mut y);
+    BlockOperator::single(pattern, &a).apply(&x, &mut y);
     assert!(y
         .iter()
         .zip(&expected)
@@ -56,7 +56,7 @@ fn mat_vec_timings() {
     let constraints = Constraints::new(mesh.nodes.len(), 3, &bc);
     let a = condense_matrix(&assembled.matrix, &assembled.graph, &constraints);
     let pattern = BlockPattern::new(&a, &assembled.graph, &constraints).unwrap();
-    let single = BlockOperator::single(&pattern, &a);
+    let single = BlockOperator::single(pattern.clone(), &a);
     let x: Vec<f64> = (0..a.rows()).map(|i| (i % 17) as f64).collect();
     let mut y = vec![0.0; a.rows()];
     let values32: Vec<f32> = a.data().iter().map(|&v| v as f32).collect();

@@ -267,7 +267,7 @@ fn iterations(n: usize, p: usize) -> (usize, usize) {
     let (mesh, a, rhs, constraints, graph) = cube_system(n, p, true);
     let cells_of_node = crate::sparsity::node_cells(&mesh);
     let pattern = BlockPattern::new(&a, &graph, &constraints).unwrap();
-    let single = BlockOperator::single(&pattern, &a);
+    let single = BlockOperator::single(pattern, &a);
     let mut multigrid = PMultigrid::new(
         &a,
         &single,
