@@ -14,7 +14,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use hocurve_elastic::{
-    solve_displacement, BoundaryConditions, ElasticError, Material, SolverKind, SolverOptions,
+    solve_displacement_with_progress, BoundaryConditions, ElasticError, Material, SolveProgress,
+    SolverKind, SolverOptions,
 };
 use hocurve_geodesic::{
     associate_boundary, place_boundary_nodes_with, AssociationRule, GeodesicError, PlacementOptions,
@@ -158,6 +159,15 @@ impl Step {
     }
 }
 
+/// What [`curve_mesh`] reports while it runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Progress {
+    /// A step starts.
+    Step(Step),
+    /// Progress inside the elasticity step (assembly fraction, set-up, CG iterations).
+    Elasticity(SolveProgress),
+}
+
 /// Seconds spent per step (0 for steps not run). `read` and `write` are the caller's.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct StepTimings {
@@ -253,16 +263,16 @@ pub struct CurvedMesh {
 }
 
 /// Curves `linear` to order `options.order` onto `geometry` (None: straight-sided), calling
-/// `progress` before each step.
+/// `progress` before each step and during the elasticity solve.
 pub fn curve_mesh(
     linear: &LinearMesh,
     geometry: Option<Geometry>,
     options: &CurveOptions,
-    progress: &mut dyn FnMut(Step),
+    progress: &mut dyn FnMut(Progress),
 ) -> Result<CurvedMesh, CurveError> {
     let start = Instant::now();
     let mut timings = StepTimings::default();
-    progress(Step::HighOrderNodes);
+    progress(Progress::Step(Step::HighOrderNodes));
     let t = Instant::now();
     let mut mesh = HighOrderMesh::from_linear(linear, options.order, options.family)?;
     let straight = mesh.nodes.clone();
@@ -276,7 +286,7 @@ pub fn curve_mesh(
     let mut sliding_nodes = 0;
     let mut solve_info = (String::from("none"), 0, 0, 0.0);
     if let Some(geometry) = geometry {
-        progress(Step::Association);
+        progress(Progress::Step(Step::Association));
         let t = Instant::now();
         let association = associate_boundary(
             linear,
@@ -297,7 +307,7 @@ pub fn curve_mesh(
                 tolerance: association.tolerance,
             });
         }
-        progress(Step::BoundaryNodes);
+        progress(Progress::Step(Step::BoundaryNodes));
         let t = Instant::now();
         let targets =
             place_boundary_nodes_with(&mesh, geometry.model, &association, &options.placement)?;
@@ -312,10 +322,16 @@ pub fn curve_mesh(
         );
 
         if !options.boundary_only {
-            progress(Step::Elasticity);
+            progress(Progress::Step(Step::Elasticity));
             let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
             sliding_nodes = bc.sliding.len();
-            let solution = solve_displacement(&mesh, &options.material, &bc, &options.solver)?;
+            let solution = solve_displacement_with_progress(
+                &mesh,
+                &options.material,
+                &bc,
+                &options.solver,
+                &mut |p| progress(Progress::Elasticity(p)),
+            )?;
             let residual = solution.relative_residual;
             if residual.is_nan() || residual > options.solver.tolerance.max(1e-8) {
                 return Err(CurveError::NotConverged {
@@ -349,7 +365,7 @@ pub fn curve_mesh(
         }
     }
 
-    progress(Step::Quality);
+    progress(Progress::Step(Step::Quality));
     let t = Instant::now();
     let quality = assess(&mesh, &options.quality)?;
     timings.quality = t.elapsed().as_secs_f64();

@@ -10,8 +10,8 @@ use std::time::{Duration, Instant};
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use hocurve::demo::Demo;
-use hocurve::pipeline::{curve_mesh, CurveOptions, CurvedMesh, Geometry, Step};
-use hocurve_elastic::{Material, SolverKind};
+use hocurve::pipeline::{curve_mesh, CurveOptions, CurvedMesh, Geometry, Progress};
+use hocurve_elastic::{Material, SolveProgress, SolverKind};
 use hocurve_geodesic::{AssociationRule, BoundaryNodeStrategy};
 use hocurve_io::DataArray;
 use hocurve_mesh::LinearMesh;
@@ -340,15 +340,15 @@ fn finish(
     output: &OutputArgs,
 ) -> Result<()> {
     let start = Instant::now();
-    let spinner = Spinner::new();
-    let mut curved = curve_mesh(linear, geometry, options, &mut |step| spinner.step(step))?;
-    spinner.step_message("writing the mesh");
+    let display = ProgressDisplay::new();
+    let mut curved = curve_mesh(linear, geometry, options, &mut |p| display.report(p))?;
+    display.spin("writing the mesh".into());
     let t = Instant::now();
     write_curved(out, &curved)?;
     curved.report.timings.write = t.elapsed().as_secs_f64();
     curved.report.timings.read = read_seconds;
     curved.report.timings.total = read_seconds + start.elapsed().as_secs_f64();
-    spinner.finish();
+    display.finish();
 
     print!("{}", curved.quality.summary);
     print_summary_table(&curved, out);
@@ -485,25 +485,72 @@ fn print_summary_table(curved: &CurvedMesh, out: &Path) {
     }
 }
 
-/// A spinner on stderr naming the running step, shown only when stderr is a terminal.
-struct Spinner(Option<indicatif::ProgressBar>);
+/// Progress on stderr, shown only when stderr is a terminal: a spinner naming the running
+/// step, turning into a bar during the stiffness assembly (fraction of cells done) and the
+/// CG solve (orders of magnitude of residual reduction gained towards the tolerance).
+struct ProgressDisplay(Option<indicatif::ProgressBar>);
 
-impl Spinner {
+/// Resolution of the bar.
+const BAR_LENGTH: u64 = 1000;
+
+impl ProgressDisplay {
     fn new() -> Self {
         if !std::io::stderr().is_terminal() {
-            return Spinner(None);
+            return ProgressDisplay(None);
         }
         let bar = indicatif::ProgressBar::new_spinner();
         bar.enable_steady_tick(Duration::from_millis(120));
-        Spinner(Some(bar))
+        ProgressDisplay(Some(bar))
     }
 
-    fn step(&self, step: Step) {
-        self.step_message(step.describe());
+    fn report(&self, progress: Progress) {
+        match progress {
+            Progress::Step(step) => self.spin(step.describe().into()),
+            Progress::Elasticity(SolveProgress::Assembly { fraction }) => {
+                self.fill(fraction, "assembling the stiffness matrix".into())
+            }
+            Progress::Elasticity(SolveProgress::Setup { solver, dofs }) => {
+                self.spin(match solver {
+                    SolverKind::Direct => {
+                        format!("factorising the stiffness matrix ({dofs} unknowns)")
+                    }
+                    _ => format!("setting up the p-multigrid preconditioner ({dofs} unknowns)"),
+                })
+            }
+            Progress::Elasticity(SolveProgress::Iteration {
+                iteration,
+                relative_residual,
+                tolerance,
+            }) => {
+                let gained = relative_residual.log10() / tolerance.log10();
+                let fraction = if gained.is_finite() { gained } else { 0.0 };
+                self.fill(
+                    fraction,
+                    format!("CG iteration {iteration}, residual {relative_residual:.1e}"),
+                );
+            }
+        }
     }
 
-    fn step_message(&self, message: &'static str) {
+    /// A spinner with `message`.
+    fn spin(&self, message: String) {
         if let Some(bar) = &self.0 {
+            let style = indicatif::ProgressStyle::with_template("{spinner} {msg}")
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_spinner());
+            bar.set_style(style);
+            bar.set_message(message);
+        }
+    }
+
+    /// A bar filled to `fraction` (clamped to [0, 1]) with `message`.
+    fn fill(&self, fraction: f64, message: String) {
+        if let Some(bar) = &self.0 {
+            let style =
+                indicatif::ProgressStyle::with_template("{spinner} {msg} [{bar:30}] {percent:>3}%")
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar());
+            bar.set_style(style);
+            bar.set_length(BAR_LENGTH);
+            bar.set_position((fraction.clamp(0.0, 1.0) * BAR_LENGTH as f64) as u64);
             bar.set_message(message);
         }
     }

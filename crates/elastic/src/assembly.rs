@@ -55,6 +55,15 @@ pub(crate) fn assemble(
     mesh: &HighOrderMesh,
     material: &Material,
 ) -> Result<Assembled, ElasticError> {
+    assemble_with_progress(mesh, material, &mut |_| {})
+}
+
+/// [`assemble`], calling `progress` with the fraction of cells done after each colour.
+pub(crate) fn assemble_with_progress(
+    mesh: &HighOrderMesh,
+    material: &Material,
+    progress: &mut dyn FnMut(f64),
+) -> Result<Assembled, ElasticError> {
     material.validate()?;
     check_dim(mesh)?;
     let references = ReferenceElement::for_mesh(mesh)?;
@@ -88,7 +97,9 @@ pub(crate) fn assemble(
     // races; atomics only make that sharing expressible without `unsafe`.
     let values: Vec<AtomicU64> = (0..nnz).map(|_| AtomicU64::new(0)).collect();
 
+    let mut done = 0;
     for class in colour_cells(mesh, &cells_of_node) {
+        done += class.len();
         class
             .par_iter()
             .try_for_each_init(ElementScratch::default, |scratch, &c| {
@@ -121,6 +132,7 @@ pub(crate) fn assemble(
                 }
                 Ok::<(), ElasticError>(())
             })?;
+        progress(done as f64 / mesh.cells.len().max(1) as f64);
     }
     let data: Vec<f64> = values
         .into_iter()

@@ -61,8 +61,8 @@ pub use boundary::{boundary_nodes, BoundaryConditions};
 pub use error_norm::displacement_l2_error;
 pub use material::Material;
 pub use solve::{
-    solve_displacement, solve_displacement_with_load, ElasticSolution, SolverKind, SolverOptions,
-    Timings,
+    solve_displacement, solve_displacement_with_load, solve_displacement_with_progress,
+    ElasticSolution, SolveProgress, SolverKind, SolverOptions, Timings,
 };
 
 use hocurve_mesh::MeshError;

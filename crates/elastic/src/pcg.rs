@@ -49,6 +49,7 @@ impl LinearOperator for BlockOperator {
 }
 
 /// Solves A x = b from the initial guess in `x`; returns the iterations done.
+#[cfg(test)]
 pub(crate) fn pcg(
     a: &dyn LinearOperator,
     b: &[f64],
@@ -56,6 +57,28 @@ pub(crate) fn pcg(
     preconditioner: &mut dyn Preconditioner,
     tolerance: f64,
     max_iterations: usize,
+) -> usize {
+    pcg_with_progress(
+        a,
+        b,
+        x,
+        preconditioner,
+        tolerance,
+        max_iterations,
+        &mut |_, _| {},
+    )
+}
+
+/// [`pcg`], calling `progress(iteration, ‖r‖ / ‖b‖)` after each iteration (the updated
+/// residual).
+pub(crate) fn pcg_with_progress(
+    a: &dyn LinearOperator,
+    b: &[f64],
+    x: &mut [f64],
+    preconditioner: &mut dyn Preconditioner,
+    tolerance: f64,
+    max_iterations: usize,
+    progress: &mut dyn FnMut(usize, f64),
 ) -> usize {
     let n = b.len();
     let b_norm = norm(b);
@@ -71,7 +94,11 @@ pub(crate) fn pcg(
     let mut q = vec![0.0; n];
     let mut rz = dot(&r, &z);
     for iteration in 1..=max_iterations {
-        if norm(&r) <= tolerance * b_norm {
+        let r_norm = norm(&r);
+        if iteration > 1 {
+            progress(iteration - 1, r_norm / b_norm);
+        }
+        if r_norm <= tolerance * b_norm {
             return iteration - 1;
         }
         a.apply(&p, &mut q);

@@ -4,11 +4,11 @@ use std::time::Instant;
 
 use hocurve_mesh::HighOrderMesh;
 
-use crate::assembly::{assemble, assemble_load, Assembled, BodyForce};
+use crate::assembly::{assemble_load, assemble_with_progress, Assembled, BodyForce};
 use crate::block_matrix::{BlockOperator, BlockPattern};
 use crate::condensation::{condense_matrix, Constraints};
 use crate::p_multigrid::PMultigrid;
-use crate::pcg::{pcg, LinearOperator};
+use crate::pcg::{pcg_with_progress, LinearOperator};
 use crate::sparse::Cholesky;
 use crate::vector_ops::{norm, residual, spmv};
 use crate::{BoundaryConditions, ElasticError, Material};
@@ -51,9 +51,10 @@ impl Default for SolverOptions {
             max_iterations: 2000,
             smoother_degree: 3,
             // Measured (release, 2-core machine): in 2D faer's Cholesky beats the
-            // two-level CG up to ~600 k unknowns (318 k: 2.5 s vs 4.9 s, 625 k: 6.0 s vs
-            // 6.9 s; examples/direct_vs_cg_2d.rs); in 3D CG wins from ~2 k unknowns on
-            // (sphere p = 2, 19 k: 1.5 s vs 0.3 s; examples/sphere_iterations.rs).
+            // p-multigrid CG (12-15 iterations) up to at least ~600 k unknowns (318 k: 2.8 s
+            // vs 3.1 s, 625 k: 5.7 s vs 6.3 s; examples/direct_vs_cg_2d.rs); in 3D CG wins
+            // from ~2 k unknowns on (sphere p = 2, 19 k: 1.5 s vs 0.2 s;
+            // examples/sphere_iterations.rs).
             direct_limit_2d: 500_000,
             direct_limit_3d: 5_000,
         }
@@ -92,6 +93,32 @@ pub struct ElasticSolution {
     pub timings: Timings,
 }
 
+/// What [`solve_displacement_with_progress`] reports while it runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SolveProgress {
+    /// The fraction of the cells whose stiffness is assembled.
+    Assembly {
+        /// In [0, 1].
+        fraction: f64,
+    },
+    /// The factorisation (direct) or the preconditioner (CG) is being set up.
+    Setup {
+        /// `Direct` or `Cg`.
+        solver: SolverKind,
+        /// Unknowns of the condensed system.
+        dofs: usize,
+    },
+    /// A CG iteration is done.
+    Iteration {
+        /// 1, 2, …
+        iteration: usize,
+        /// The updated relative residual ‖r‖ / ‖b‖.
+        relative_residual: f64,
+        /// The relative residual CG stops at.
+        tolerance: f64,
+    },
+}
+
 /// The largest acceptable true relative residual.
 const RESIDUAL_LIMIT: f64 = 1e-8;
 
@@ -117,6 +144,29 @@ pub fn solve_displacement_with_load(
     body_force: Option<&BodyForce<'_>>,
     options: &SolverOptions,
 ) -> Result<ElasticSolution, ElasticError> {
+    solve(mesh, material, bc, body_force, options, &mut |_| {})
+}
+
+/// [`solve_displacement`], reporting the assembly's and the solve's progress to
+/// `progress` (for progress bars).
+pub fn solve_displacement_with_progress(
+    mesh: &HighOrderMesh,
+    material: &Material,
+    bc: &BoundaryConditions,
+    options: &SolverOptions,
+    progress: &mut dyn FnMut(SolveProgress),
+) -> Result<ElasticSolution, ElasticError> {
+    solve(mesh, material, bc, None, options, progress)
+}
+
+fn solve(
+    mesh: &HighOrderMesh,
+    material: &Material,
+    bc: &BoundaryConditions,
+    body_force: Option<&BodyForce<'_>>,
+    options: &SolverOptions,
+    progress: &mut dyn FnMut(SolveProgress),
+) -> Result<ElasticSolution, ElasticError> {
     material.validate()?;
     bc.validate(mesh.nodes.len(), mesh.dim)?;
     if bc.prescribed.is_empty() && bc.sliding.is_empty() {
@@ -127,7 +177,9 @@ pub fn solve_displacement_with_load(
         matrix: stiffness,
         graph,
         cells_of_node,
-    } = assemble(mesh, material)?;
+    } = assemble_with_progress(mesh, material, &mut |fraction| {
+        progress(SolveProgress::Assembly { fraction })
+    })?;
     let dim = mesh.dim;
     let constraints = Constraints::new(mesh.nodes.len(), dim, bc);
     // r = F − K u_p, then b = Tᵀ r.
@@ -166,6 +218,7 @@ pub fn solve_displacement_with_load(
     let mut iterations = 0;
     let (mut coarse_setup, mut smoother_setup, mut iteration_time) = (0.0, 0.0, 0.0);
     if dofs > 0 && norm(&rhs) > 0.0 {
+        progress(SolveProgress::Setup { solver, dofs });
         match solver {
             SolverKind::Direct => {
                 x.copy_from_slice(&rhs);
@@ -193,13 +246,21 @@ pub fn solve_displacement_with_load(
                 coarse_setup = preconditioner.coarse_seconds;
                 smoother_setup = preconditioner.smoother_seconds;
                 let start = Instant::now();
-                iterations = pcg(
+                let tolerance = options.tolerance;
+                iterations = pcg_with_progress(
                     &matrix,
                     &rhs,
                     &mut x,
                     &mut preconditioner,
-                    options.tolerance,
+                    tolerance,
                     options.max_iterations,
+                    &mut |iteration, relative_residual| {
+                        progress(SolveProgress::Iteration {
+                            iteration,
+                            relative_residual,
+                            tolerance,
+                        })
+                    },
                 );
                 iteration_time = start.elapsed().as_secs_f64();
             }

@@ -6,7 +6,8 @@ mod common;
 use common::{cube, high_order, square, Fill};
 use hocurve_elastic::{
     assemble_stiffness, boundary_nodes, solve_displacement, solve_displacement_with_load,
-    BoundaryConditions, ElasticError, ElasticSolution, Material, SolverKind, SolverOptions,
+    solve_displacement_with_progress, BoundaryConditions, ElasticError, ElasticSolution, Material,
+    SolveProgress, SolverKind, SolverOptions,
 };
 use hocurve_mesh::{ElementType, HighOrderMesh};
 
@@ -92,6 +93,63 @@ fn multigrid_iterations_stay_flat_in_p() {
         let low = counts[1..].iter().min().copied().unwrap_or(0);
         let high = counts[1..].iter().max().copied().unwrap_or(0);
         assert!(high as f64 <= 1.6 * low as f64, "{fill:?}: {counts:?}");
+    }
+}
+
+#[test]
+fn progress_reports_assembly_set_up_and_every_iteration() {
+    let mesh = high_order(&cube(2, Fill::Tet, 0.2), 3);
+    let bc = clamped_and_pushed(&mesh);
+    for kind in [SolverKind::Cg, SolverKind::Direct] {
+        let options = SolverOptions {
+            kind,
+            ..Default::default()
+        };
+        let mut events = Vec::new();
+        let solution = solve_displacement_with_progress(
+            &mesh,
+            &Material::default(),
+            &bc,
+            &options,
+            &mut |p| events.push(p),
+        )
+        .unwrap();
+        let fractions: Vec<f64> = events
+            .iter()
+            .filter_map(|e| match e {
+                SolveProgress::Assembly { fraction } => Some(*fraction),
+                _ => None,
+            })
+            .collect();
+        assert!(fractions.windows(2).all(|w| w[0] < w[1]), "{fractions:?}");
+        assert_eq!(fractions.last(), Some(&1.0));
+        assert!(events.contains(&SolveProgress::Setup {
+            solver: kind,
+            dofs: solution.dofs
+        }));
+        let iterations: Vec<(usize, f64)> = events
+            .iter()
+            .filter_map(|e| match e {
+                SolveProgress::Iteration {
+                    iteration,
+                    relative_residual,
+                    tolerance,
+                } => {
+                    assert_eq!(*tolerance, options.tolerance);
+                    Some((*iteration, *relative_residual))
+                }
+                _ => None,
+            })
+            .collect();
+        if kind == SolverKind::Direct {
+            assert!(iterations.is_empty());
+            continue;
+        }
+        assert_eq!(iterations.len(), solution.iterations);
+        assert!(iterations.iter().enumerate().all(|(k, it)| it.0 == k + 1));
+        let last = iterations.last().map_or(f64::NAN, |it| it.1);
+        assert!(last <= options.tolerance, "{last}");
+        assert!(iterations[0].1 > options.tolerance);
     }
 }
 
