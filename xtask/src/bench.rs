@@ -139,8 +139,8 @@ pub fn bench(args: &[String]) -> Result<()> {
         };
         println!(
             "{p:>2} {:>7} {:>5} {elasticity:>7.2} {curving:>9.2} {total:>9.2} | {proj_time:>9.2} {elastic_text} {:>6} | {ratio:>9.2} {:>6} | {ours_min:>8.4} {:>8.4} {:>8.4} | {:>7.3} {:>7.3} {:>7.3}",
-            ours["dofs"],
-            ours["iterations"],
+            ours["dofs"].as_u64().unwrap_or(0),
+            ours["iterations"].as_u64().unwrap_or(0),
             project.as_ref().map_or(String::from("–"), |v| v["threads"].to_string()),
             if met { "yes" } else { "no" },
             q(project, "min_scaled_jacobian"),
