@@ -24,7 +24,7 @@ use hocurve_mesh::{HighOrderMesh, LinearMesh, MeshError};
 use hocurve_nodes::{NodeFamily, NodesError};
 use hocurve_nurbs::vec3::{cross, dot, norm, sub};
 use hocurve_nurbs::GeometryModel;
-use hocurve_quality::{assess, MeshQuality, QualityError, QualityOptions};
+use hocurve_quality::{assess, BezierOptions, MeshQuality, QualityError, QualityOptions, Validity};
 use serde::Serialize;
 
 /// Errors of the curving pipeline: one step's error, or a problem with the request.
@@ -111,6 +111,11 @@ pub struct CurveOptions {
     pub boundary_only: bool,
     /// What the quality assessment samples.
     pub quality: QualityOptions,
+    /// Certify every element's validity with Bézier bounds on det J (beyond the paper)
+    /// when `quality.bezier` is not set. The paper's Ĩ samples det J at interior quadrature
+    /// points and can miss det J < 0 near a vertex or face; the Bézier check cannot. Where
+    /// it is not supported (det J degree too high) the report says "not certified".
+    pub certify: bool,
 }
 
 impl CurveOptions {
@@ -127,6 +132,7 @@ impl CurveOptions {
             slide: Vec::new(),
             boundary_only: false,
             quality: QualityOptions::default(),
+            certify: true,
         }
     }
 }
@@ -237,8 +243,17 @@ pub struct CurveReport {
     pub residual: f64,
     /// Smallest scaled Jacobian Ĩ (None for an empty mesh).
     pub min_scaled_jacobian: Option<f64>,
-    /// Elements with Ĩ ≤ 0.
+    /// Elements with det J ≤ 0 found somewhere: Ĩ ≤ 0 at a sample point, or a negative
+    /// point found by the Bézier check.
     pub invalid_elements: usize,
+    /// Elements certified valid (det J > 0 everywhere, Bézier bounds); None when the
+    /// check did not run.
+    pub certified_valid_elements: Option<usize>,
+    /// Elements the Bézier check could neither certify nor refute (det J ≈ 0 somewhere).
+    pub undecided_elements: Option<usize>,
+    /// Certified lower bound of min det J / max det J over every element (≤ the true
+    /// minimum, unlike the sampled Ĩ); None when the check did not run.
+    pub min_scaled_jacobian_lower_bound: Option<f64>,
     /// Fraction (0–1) of elements with Ĩ > 0.95.
     pub fraction_above_0_95: f64,
     /// Elements with Ĩ < 0.5.
@@ -367,7 +382,7 @@ pub fn curve_mesh(
 
     progress(Progress::Step(Step::Quality));
     let t = Instant::now();
-    let quality = assess(&mesh, &options.quality)?;
+    let quality = assess_certified(&mesh, options)?;
     timings.quality = t.elapsed().as_secs_f64();
     timings.total = start.elapsed().as_secs_f64();
 
@@ -400,7 +415,13 @@ pub fn curve_mesh(
         iterations: solve_info.1,
         residual: solve_info.3,
         min_scaled_jacobian: summary.min_scaled_jacobian,
-        invalid_elements: summary.invalid_elements,
+        invalid_elements: invalid_elements(&quality),
+        certified_valid_elements: summary.validity.as_ref().map(|v| v.valid),
+        undecided_elements: summary.validity.as_ref().map(|v| v.undecided),
+        min_scaled_jacobian_lower_bound: summary
+            .validity
+            .as_ref()
+            .and_then(|v| v.min_scaled_jacobian_lower_bound),
         fraction_above_0_95: summary.fraction_above_0_95,
         elements_below_0_5: summary.elements_below_0_5,
         max_stretching: summary.max_stretching,
@@ -412,6 +433,39 @@ pub fn curve_mesh(
         quality,
         report,
     })
+}
+
+/// [`assess`] with the Bézier validity check when `options.certify` asks for it and the
+/// mesh's order supports it (else without: the report then says "not certified").
+fn assess_certified(
+    mesh: &HighOrderMesh,
+    options: &CurveOptions,
+) -> Result<MeshQuality, QualityError> {
+    if !options.certify || options.quality.bezier.is_some() {
+        return assess(mesh, &options.quality);
+    }
+    let certified = QualityOptions {
+        bezier: Some(BezierOptions::default()),
+        ..options.quality
+    };
+    match assess(mesh, &certified) {
+        Err(QualityError::UnsupportedBezierDegree { .. }) => assess(mesh, &options.quality),
+        other => other,
+    }
+}
+
+/// Elements where det J ≤ 0 was found: sampled Ĩ ≤ 0 (or NaN: degenerate) or a negative
+/// point of the Bézier check.
+fn invalid_elements(quality: &MeshQuality) -> usize {
+    (0..quality.scaled_jacobian.len())
+        .filter(|&e| {
+            quality.scaled_jacobian[e].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
+                || quality
+                    .validity
+                    .as_ref()
+                    .is_some_and(|v| v[e].validity == Validity::Invalid)
+        })
+        .count()
 }
 
 /// The Dirichlet and sliding data of the elastic analogy: nodes with a target on the
@@ -588,4 +642,64 @@ fn plane_normal(
         });
     }
     Ok(normal)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_mesh::{Element, ElementType};
+
+    /// One p = 4 tetrahedron (equispaced nodes) whose first edge node (edge 0–1) is pulled
+    /// 40 % of the way to vertex 0 (sampled Ĩ = 0.24, true min det J / max det J = −0.39): det J < 0 only in a small region at that vertex, which the interior
+    /// quadrature points of the paper's Ĩ do not reach.
+    fn tet_inverted_at_a_vertex() -> HighOrderMesh {
+        let linear = LinearMesh {
+            dim: 3,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            cells: vec![Element {
+                kind: ElementType::Tet,
+                vertices: vec![0, 1, 2, 3],
+                entity: 1,
+            }],
+            ..Default::default()
+        };
+        let mut mesh = HighOrderMesh::from_linear(&linear, 4, NodeFamily::Equispaced).unwrap();
+        let cell = &mesh.cells[0];
+        let (v0, first_edge_node) = (cell.nodes[0] as usize, cell.nodes[4] as usize);
+        let (a, b) = (mesh.nodes[v0], mesh.nodes[first_edge_node]);
+        // Check the assumption: node 4 lies on the edge from vertex 0 to vertex 1.
+        assert!(
+            b[1] == 0.0 && b[2] == 0.0 && b[0] > 0.0 && b[0] < 0.5,
+            "{b:?}"
+        );
+        mesh.nodes[first_edge_node] = [b[0] + 0.4 * (a[0] - b[0]), 0.0, 0.0];
+        mesh
+    }
+
+    #[test]
+    fn certification_finds_inversions_the_sampled_scaled_jacobian_misses() {
+        let mesh = tet_inverted_at_a_vertex();
+        let mut options = CurveOptions::new(4);
+        options.certify = false;
+        let sampled = assess_certified(&mesh, &options).unwrap();
+        assert!(sampled.validity.is_none());
+        assert!(
+            sampled.scaled_jacobian[0] > 0.0,
+            "{:?}",
+            sampled.scaled_jacobian
+        );
+        assert_eq!(invalid_elements(&sampled), 0);
+
+        options.certify = true;
+        let certified = assess_certified(&mesh, &options).unwrap();
+        let checks = certified.validity.as_ref().unwrap();
+        assert_eq!(checks[0].validity, Validity::Invalid);
+        assert!(checks[0].scaled_jacobian_lower_bound < 0.0);
+        assert_eq!(invalid_elements(&certified), 1);
+    }
 }

@@ -69,6 +69,12 @@ fn check_sphere(order: usize) -> f64 {
         );
     }
     assert_eq!(curved.report.invalid_elements, 0, "p = {order}");
+    // Not only at the sample points: det J > 0 everywhere, certified.
+    assert_eq!(
+        curved.report.certified_valid_elements,
+        Some(curved.report.elements),
+        "p = {order}"
+    );
     assert!(curved.report.residual <= 1e-8);
     let exact = 216.0 - 4.0 * std::f64::consts::PI / 3.0;
     let error = (domain_measure(mesh).unwrap() - exact).abs();
@@ -109,6 +115,10 @@ fn naca0012_at_p5_has_the_formula_node_count_and_min_scaled_jacobian_above_0_8()
         v + e * (p - 1) + f * (p - 1) * (p - 2) / 2
     );
     assert_eq!(curved.report.invalid_elements, 0);
+    assert_eq!(
+        curved.report.certified_valid_elements,
+        Some(curved.report.elements)
+    );
     let min = curved.report.min_scaled_jacobian.unwrap();
     assert!(min >= 0.8, "min scaled Jacobian {min}");
     assert!(curved.report.max_geometry_distance < 1e-10);

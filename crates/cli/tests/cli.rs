@@ -61,6 +61,8 @@ fn demo_writes_mesh_report_and_plots_and_quality_reads_the_mesh_back() {
     }
     assert_eq!(report["order"], 3);
     assert_eq!(report["invalid_elements"], 0);
+    assert_eq!(report["certified_valid_elements"], report["elements"]);
+    assert!(report["min_scaled_jacobian_lower_bound"].as_f64().unwrap() > 0.0);
     assert!(report["residual"].as_f64().unwrap() < 1e-8);
     assert!(report["timings"]["solve"].as_f64().is_some());
     for plot in ["scaled_jacobian.svg", "stretching.svg"] {
