@@ -284,6 +284,11 @@ fn run(cli: Cli) -> Result<()> {
                     high_order.nodes.len()
                 );
                 print!("{}", quality.summary);
+                if !certify {
+                    println!(
+                        "validity not certified: sampled Ĩ can miss det J < 0 near a vertex or face (use --certify)"
+                    );
+                }
             }
             if let Some(path) = histogram {
                 hocurve_quality::write_histogram_svg(&path, &quality.summary)?;
