@@ -68,7 +68,8 @@ pub struct Timings {
     pub assembly: f64,
     /// Preconditioner or factorisation set-up and the solve (includes the three below).
     pub solve: f64,
-    /// CG: the coarse space (prolongation, Galerkin product) and its factorisation.
+    /// CG: the coarser p-multigrid levels (meshes, assembly, prolongations) and the p = 1
+    /// factorisation.
     pub coarse_setup: f64,
     /// CG: the smoother's block inverses and spectrum estimate.
     pub smoother_setup: f64,
