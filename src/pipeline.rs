@@ -454,9 +454,14 @@ fn assess_certified(
     }
 }
 
-/// Elements where det J ≤ 0 was found: sampled Ĩ ≤ 0 (or NaN: degenerate) or a negative
-/// point of the Bézier check.
+/// Number of [`invalid_cells`].
 fn invalid_elements(quality: &MeshQuality) -> usize {
+    invalid_cells(quality).len()
+}
+
+/// The cells (indices into `mesh.cells`, i.e. input order) where det J ≤ 0 was found:
+/// sampled Ĩ ≤ 0 (or NaN: degenerate) or a negative point of the Bézier check.
+pub fn invalid_cells(quality: &MeshQuality) -> Vec<usize> {
     (0..quality.scaled_jacobian.len())
         .filter(|&e| {
             quality.scaled_jacobian[e].partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater)
@@ -465,7 +470,7 @@ fn invalid_elements(quality: &MeshQuality) -> usize {
                     .as_ref()
                     .is_some_and(|v| v[e].validity == Validity::Invalid)
         })
-        .count()
+        .collect()
 }
 
 /// The Dirichlet and sliding data of the elastic analogy: nodes with a target on the

@@ -17,7 +17,7 @@ use hocurve_io::DataArray;
 use hocurve_mesh::LinearMesh;
 use hocurve_nodes::NodeFamily;
 use hocurve_nurbs::GeometryModel;
-use hocurve_quality::{MeshQuality, QualitySummary, Sampling};
+use hocurve_quality::{QualitySummary, Sampling};
 
 /// Curved high-order meshes of arbitrary order from straight-sided meshes.
 #[derive(Parser)]
@@ -368,6 +368,18 @@ fn finish(
             curved.report.max_geometry_distance
         );
     }
+    let invalid = hocurve::pipeline::invalid_cells(&curved.quality);
+    if !invalid.is_empty() {
+        let shown: Vec<String> = invalid.iter().take(10).map(|c| c.to_string()).collect();
+        eprintln!(
+            "hocurve: warning: {} element(s) have det J ≤ 0 somewhere (cells {}{}, 0-based in input order; \
+             see the cell data scaled_jacobian_lower_bound). A cell with two edges on one smooth \
+             curve or surface gets a 180° corner when curved: such input cells need splitting.",
+            invalid.len(),
+            shown.join(", "),
+            if invalid.len() > 10 { ", …" } else { "" }
+        );
+    }
     if let Some(path) = &output.report {
         let json = serde_json::to_string_pretty(&curved.report)?;
         hocurve_io::write_atomically(path, |w| {
@@ -393,25 +405,36 @@ fn write_curved(path: &Path, curved: &CurvedMesh) -> Result<()> {
         components: 3,
         values: &displacement,
     }];
-    let cell_data = quality_cell_data(&curved.quality);
-    let cell_arrays: Vec<DataArray> = cell_data
-        .iter()
-        .map(|(name, values)| DataArray {
-            name,
+    let quality = &curved.quality;
+    // The certified lower bound of Ĩ per cell, when the Bézier check ran: the cells to
+    // look at in ParaView are those where it is far below the sampled Ĩ.
+    let lower_bounds: Option<Vec<f64>> = quality.validity.as_ref().map(|checks| {
+        checks
+            .iter()
+            .map(|c| c.scaled_jacobian_lower_bound)
+            .collect()
+    });
+    let mut cell_arrays = vec![
+        DataArray {
+            name: "scaled_jacobian",
             components: 1,
-            values,
-        })
-        .collect();
+            values: &quality.scaled_jacobian,
+        },
+        DataArray {
+            name: "stretching",
+            components: 1,
+            values: &quality.stretching,
+        },
+    ];
+    if let Some(bounds) = &lower_bounds {
+        cell_arrays.push(DataArray {
+            name: "scaled_jacobian_lower_bound",
+            components: 1,
+            values: bounds,
+        });
+    }
     hocurve_io::write_mesh_with(path, &curved.mesh, &point_data, &cell_arrays)?;
     Ok(())
-}
-
-/// Per-cell arrays for ParaView: scaled Jacobian and stretching.
-fn quality_cell_data(quality: &MeshQuality) -> Vec<(&'static str, Vec<f64>)> {
-    vec![
-        ("scaled_jacobian", quality.scaled_jacobian.clone()),
-        ("stretching", quality.stretching.clone()),
-    ]
 }
 
 fn write_plots(dir: &Path, summary: &QualitySummary) -> Result<()> {

@@ -95,7 +95,12 @@ fn vtu_output_has_displacement_and_quality_arrays() {
     );
     assert!(out.status.success(), "{}", stderr(&out));
     let vtu = std::fs::read_to_string(dir.path().join("naca.vtu")).unwrap();
-    for name in ["displacement", "scaled_jacobian", "stretching"] {
+    for name in [
+        "displacement",
+        "scaled_jacobian",
+        "stretching",
+        "scaled_jacobian_lower_bound",
+    ] {
         assert!(vtu.contains(&format!("Name=\"{name}\"")), "{name}");
     }
     let q = hocurve(&["quality", "naca.vtu"], dir.path());
