@@ -111,18 +111,36 @@ impl<'a> PMultigrid<'a> {
                 smoother_seconds: 0.0,
             });
         }
+        let mut smoother_seconds = 0.0;
+        let smoothed = |matrix: &StiffnessMatrix,
+                        operator: Box<dyn LinearOperator + 'a>,
+                        level: &LevelMesh,
+                        seconds: &mut f64| {
+            let start = Instant::now();
+            let cuts = dof_cuts(&entity_node_cuts(&level.mesh), &level.constraints.first);
+            let smoother = ChebyshevSmoother::new(matrix, &*operator, &cuts, degree);
+            *seconds += start.elapsed().as_secs_f64();
+            (operator, smoother)
+        };
         let mut level_meshes = vec![LevelMesh {
             mesh: std::borrow::Cow::Borrowed(mesh),
             constraints: std::borrow::Cow::Borrowed(constraints),
             cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
         }];
-        let mut matrices = Vec::new();
-        let mut patterns = Vec::new();
-        let mut orders = vec![mesh.order];
+        let mut smoothers = vec![smoothed(
+            matrix,
+            Box::new(a),
+            &level_meshes[0],
+            &mut smoother_seconds,
+        )];
+        let mut coarsest_matrix = None;
+        // Only a mesh whose layout describes its nodes (always, unless built by hand) gets
+        // coarser levels: without them the preconditioner degrades, the solve stays correct.
+        let layout_ok = mesh.expected_node_count() == mesh.nodes.len()
+            && mesh.layout.num_edges == mesh.topology.edges.len()
+            && mesh.layout.num_vertices <= mesh.nodes.len();
         for q in level_orders(mesh.order).into_iter().skip(1) {
-            // A mesh whose layout does not describe its nodes (built by hand) gets no
-            // coarser levels: the preconditioner degrades, the solve stays correct.
-            let Ok(coarse) = mesh.straight_of_order(q) else {
+            let Some(coarse) = layout_ok.then(|| mesh.straight_of_order(q).ok()).flatten() else {
                 break;
             };
             let coarse_constraints = carried_constraints(mesh, constraints, &coarse);
@@ -132,58 +150,45 @@ impl<'a> PMultigrid<'a> {
             let assembled = assemble(&coarse, material)?;
             let condensed =
                 condense_matrix(&assembled.matrix, &assembled.graph, &coarse_constraints);
-            patterns.push(BlockPattern::new(
-                &condensed,
-                &assembled.graph,
-                &coarse_constraints,
-            ));
-            matrices.push(condensed);
-            orders.push(q);
-            level_meshes.push(LevelMesh {
+            let level = LevelMesh {
                 mesh: std::borrow::Cow::Owned(coarse),
                 constraints: std::borrow::Cow::Owned(coarse_constraints),
                 cells_of_node: std::borrow::Cow::Owned(assembled.cells_of_node),
-            });
+            };
+            if q == 1 {
+                // Factorised below.
+                coarsest_matrix = Some(condensed);
+            } else {
+                // The f64 matrix is dropped once the smoother is set up: only its f32
+                // node-block copy stays.
+                let pattern = BlockPattern::new(&condensed, &assembled.graph, &level.constraints);
+                let operator: Box<dyn LinearOperator> = match pattern {
+                    Some(p) => Box::new(BlockOperator::single(p, &condensed)),
+                    None => Box::new(condensed.clone()),
+                };
+                smoothers.push(smoothed(
+                    &condensed,
+                    operator,
+                    &level,
+                    &mut smoother_seconds,
+                ));
+            }
+            level_meshes.push(level);
         }
         let prolongations = level_meshes
             .windows(2)
             .map(|pair| prolongation(&pair[0], &pair[1]))
             .collect::<Result<Vec<_>, _>>()?;
-        // The last matrix (p = 1 if the hierarchy reached it) is factorised; if the
-        // hierarchy stopped early (no free vertex), the last level has no correction.
-        let coarsest_matrix = if orders.last() == Some(&1) && orders.len() > 1 {
-            matrices.pop()
-        } else {
-            None
-        };
+        // The p = 1 matrix, if the hierarchy reached it, is factorised; if the hierarchy
+        // stopped early (no free vertex), the last level has no coarse correction.
         let coarsest = coarsest_matrix
             .map(|m| Cholesky::new(&m, "coarse matrix"))
             .transpose()?;
-        let coarse_seconds = start.elapsed().as_secs_f64();
+        let coarse_seconds = start.elapsed().as_secs_f64() - smoother_seconds;
 
-        let start = Instant::now();
         let mut levels = Vec::new();
-        let mut coarse_matrices = matrices.into_iter().zip(patterns);
         let mut prolongations = prolongations.into_iter();
-        for (i, level) in level_meshes.iter().enumerate() {
-            let cuts = dof_cuts(&entity_node_cuts(&level.mesh), &level.constraints.first);
-            let (smoother, operator): (_, Box<dyn LinearOperator>) = if i == 0 {
-                (
-                    ChebyshevSmoother::new(matrix, a, &cuts, degree),
-                    Box::new(a),
-                )
-            } else if let Some((m, pattern)) = coarse_matrices.next() {
-                let operator: Box<dyn LinearOperator> = match pattern {
-                    Some(p) => Box::new(BlockOperator::single(p, &m)),
-                    None => Box::new(m.clone()),
-                };
-                (
-                    ChebyshevSmoother::new(&m, &*operator, &cuts, degree),
-                    operator,
-                )
-            } else {
-                break; // the coarsest, factorised above
-            };
+        for ((operator, smoother), level) in smoothers.into_iter().zip(&level_meshes) {
             let size = level.constraints.len();
             let prolongation = prolongations
                 .next()
@@ -202,7 +207,6 @@ impl<'a> PMultigrid<'a> {
                 coarse_solution: vec![0.0; coarse_size],
             });
         }
-        let smoother_seconds = start.elapsed().as_secs_f64();
         Ok(PMultigrid {
             levels,
             coarsest,
@@ -249,6 +253,10 @@ fn carried_constraints(
 /// A node of `to` on the same mesh entity (vertex, edge, face or cell interior) as node
 /// `n` of `from`; both meshes share their vertices, edges, faces and cells.
 fn same_entity_node(from: &HighOrderMesh, to: &HighOrderMesh, n: usize) -> Option<usize> {
+    same_entity_node_unchecked(from, to, n).filter(|&m| m < to.nodes.len())
+}
+
+fn same_entity_node_unchecked(from: &HighOrderMesh, to: &HighOrderMesh, n: usize) -> Option<usize> {
     let (lf, lt) = (&from.layout, &to.layout);
     if n < lf.num_vertices {
         return Some(n);

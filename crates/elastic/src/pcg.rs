@@ -116,6 +116,9 @@ pub(crate) fn pcg_with_progress(
         xpby(&z, rz_next / rz, &mut p);
         rz = rz_next;
     }
+    if max_iterations > 0 {
+        progress(max_iterations, norm(&r) / b_norm);
+    }
     max_iterations
 }
 

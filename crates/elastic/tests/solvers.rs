@@ -154,6 +154,37 @@ fn progress_reports_assembly_set_up_and_every_iteration() {
 }
 
 #[test]
+fn progress_reports_the_last_iteration_of_a_solve_that_does_not_converge() {
+    let mesh = high_order(&cube(2, Fill::Tet, 0.2), 3);
+    let bc = clamped_and_pushed(&mesh);
+    let options = SolverOptions {
+        kind: SolverKind::Cg,
+        max_iterations: 3,
+        ..Default::default()
+    };
+    let mut iterations = Vec::new();
+    let result =
+        solve_displacement_with_progress(&mesh, &Material::default(), &bc, &options, &mut |p| {
+            if let SolveProgress::Iteration { iteration, .. } = p {
+                iterations.push(iteration);
+            }
+        });
+    assert!(matches!(result, Err(ElasticError::NotConverged { .. })));
+    assert_eq!(iterations, vec![1, 2, 3]);
+}
+
+#[test]
+fn a_hand_built_mesh_with_a_wrong_layout_is_still_solved() {
+    // The layout claims one vertex more than the mesh has: the p-multigrid hierarchy
+    // cannot be built, CG must still converge (on the smoother alone), not panic.
+    let mut mesh = high_order(&cube(2, Fill::Tet, 0.2), 3);
+    mesh.layout.num_vertices += 1;
+    let bc = clamped_and_pushed(&mesh);
+    let solution = solve(&mesh, &bc, SolverKind::Cg);
+    assert!(solution.relative_residual <= 1e-10);
+}
+
+#[test]
 fn sliding_walls_reproduce_uniaxial_stress() {
     // Symmetry planes x = 0, y = 0, z = 0 slide; the face x = 1 is pulled by ε with its
     // lateral contraction prescribed; y = 1, z = 1 are free. The exact solution
