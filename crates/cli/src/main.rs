@@ -514,7 +514,7 @@ fn print_summary_table(curved: &CurvedMesh, out: &Path) {
                 r.min_scaled_jacobian_lower_bound
                     .map_or("-".to_string(), |m| format!("{m:.4}"))
             ),
-            _ => "not certified (--no-certify, or order too high for the Bézier check)".to_string(),
+            _ => "not certified (--no-certify, or order above 5: use hocurve quality --certify)".to_string(),
         },
     ));
     rows.push((
