@@ -54,6 +54,18 @@ impl LinearMesh {
             .unwrap_or(&[])
     }
 
+    /// The file's tag of cell `index` (Gmsh element tag), for messages. Until the readers
+    /// keep tags this is the 1-based position, which equals Gmsh's tag for files with
+    /// contiguous element numbering.
+    pub fn cell_tag(&self, index: usize) -> u64 {
+        index as u64 + 1
+    }
+
+    /// The file's tag of vertex `index` (Gmsh node tag), for messages; see [`Self::cell_tag`].
+    pub fn vertex_tag(&self, index: usize) -> u64 {
+        index as u64 + 1
+    }
+
     /// The physical group with the given name, if any.
     pub fn physical_group(&self, name: &str) -> Option<&PhysicalGroup> {
         self.physical_groups.iter().find(|g| g.name == name)
