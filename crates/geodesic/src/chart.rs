@@ -61,34 +61,55 @@ impl<'a> SurfaceChart<'a> {
         out
     }
 
-    /// Whether `uv` lies on a degenerate edge, and which parameter is then free:
-    /// `Some(0)` — u is arbitrary (a pole at v = const), `Some(1)` — v is arbitrary.
-    pub fn free_direction_at(&self, uv: [f64; 2]) -> Option<usize> {
+    /// Whether `uv` lies on a degenerate edge (a pole), and which parameter is then free:
+    /// `Some((0, v))` — u is arbitrary and the pole is at v, `Some((1, u))` — v is arbitrary.
+    ///
+    /// Decided in 3D: the point S(uv) lies within 1e-7 of the surface's size of the pole.
+    /// Point inversion converges only linearly at a pole, so a mesh vertex snapped there
+    /// gets a parameter some 1e-8 off the degenerate edge; a test in parameter space would
+    /// miss it, and a path from it would spiral away along the wrong meridian.
+    pub fn free_direction_at(&self, uv: [f64; 2]) -> Option<(usize, f64)> {
+        if !self.poles.iter().any(|&p| p) {
+            return None;
+        }
         let [u, v] = self.fold(uv);
         let ((u0, u1), (v0, v1)) = (self.domain[0], self.domain[1]);
-        let eps_u = 1e-12 * (u1 - u0);
-        let eps_v = 1e-12 * (v1 - v0);
-        if (self.poles[0] && (v - v0).abs() <= eps_v) || (self.poles[1] && (v1 - v).abs() <= eps_v)
-        {
-            Some(0)
-        } else if (self.poles[2] && (u - u0).abs() <= eps_u)
-            || (self.poles[3] && (u1 - u).abs() <= eps_u)
-        {
-            Some(1)
-        } else {
-            None
-        }
+        let x = self.surface.point(u, v);
+        let tolerance = 1e-7 * self.surface.size().max(f64::MIN_POSITIVE);
+        let near = |p: [f64; 3]| {
+            let d = [x[0] - p[0], x[1] - p[1], x[2] - p[2]];
+            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() <= tolerance
+        };
+        let candidates = [
+            (self.poles[0], (0, v0), [u, v0]),
+            (self.poles[1], (0, v1), [u, v1]),
+            (self.poles[2], (1, u0), [u0, v]),
+            (self.poles[3], (1, u1), [u1, v]),
+        ];
+        candidates
+            .into_iter()
+            .find(|&(pole, _, at)| pole && near(self.surface.point(at[0], at[1])))
+            .map(|(_, free, _)| free)
     }
 
     /// The end parameters of a path from `a` to `b`: `b` unrolled next to `a`, and an end at a
-    /// pole given the other end's free coordinate (the path leaves a pole along a meridian).
+    /// pole put exactly on it with the other end's free coordinate (the path leaves a pole
+    /// along a meridian, as every geodesic from a pole does).
     pub fn path_ends(&self, a: [f64; 2], b: [f64; 2]) -> ([f64; 2], [f64; 2]) {
         let mut a = a;
         let mut b = self.unroll_near(b, a);
-        if let Some(d) = self.free_direction_at(a) {
-            a[d] = b[d];
-        } else if let Some(d) = self.free_direction_at(b) {
-            b[d] = a[d];
+        let (pole_a, pole_b) = (self.free_direction_at(a), self.free_direction_at(b));
+        if let Some((d, at)) = pole_a {
+            a[1 - d] = at;
+            if pole_b.is_none() {
+                a[d] = b[d];
+            }
+        }
+        if let Some((d, at)) = pole_b {
+            b[1 - d] = at;
+            if pole_a.is_none() {
+                b[d] = a[d];
+            }
         }
         let b = self.unroll_near(b, a);
         (a, b)
@@ -100,3 +121,7 @@ impl<'a> SurfaceChart<'a> {
         (cp.param, cp.point)
     }
 }
+
+#[cfg(test)]
+#[path = "tests/chart.rs"]
+mod tests;

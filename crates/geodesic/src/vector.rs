@@ -64,7 +64,11 @@ impl SurfaceFrame {
             );
             let d = chart.surface.derivatives(uu, vv);
             let n = cross(d.du, d.dv);
-            if norm(n) > 1e-10 * norm(d.du) * norm(d.dv) && norm(n) > 0.0 {
+            // Relative to the larger derivative: at a pole the vanishing one is round-off
+            // (~1e-16) in any direction, and a test relative to |∂S/∂u| |∂S/∂v| would take
+            // the cross product of that noise for the normal.
+            let scale = norm(d.du).max(norm(d.dv));
+            if norm(n) > 1e-8 * scale * scale && norm(n) > 0.0 {
                 if let Some(normal) = unit(n) {
                     return Some(Self {
                         derivatives: d,

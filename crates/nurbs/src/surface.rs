@@ -211,7 +211,9 @@ impl NurbsSurface {
     /// `S(u_start, v) = S(u_end, v)`: the surface is closed across a seam in u.
     pub fn is_closed_u(&self) -> bool {
         let (n_u, n_v) = (self.n_u(), self.n_v());
-        let tol = 1e-12 * self.size().max(f64::MIN_POSITIVE);
+        // Relative 1e-8: CAD files carry ~10 significant digits (OpenCASCADE's IGES writes
+        // 10), so the control points of a pole agree only to about 1e-10 of the model.
+        let tol = 1e-8 * self.size().max(f64::MIN_POSITIVE);
         (0..n_v).all(|j| {
             vec3::distance(self.control_point(0, j), self.control_point(n_u - 1, j)) <= tol
                 && (self.weights[j] - self.weights[(n_u - 1) * n_v + j]).abs() <= 1e-12
@@ -221,7 +223,9 @@ impl NurbsSurface {
     /// Whether the first and last control rows in v coincide: closed across a seam in v.
     pub fn is_closed_v(&self) -> bool {
         let (n_u, n_v) = (self.n_u(), self.n_v());
-        let tol = 1e-12 * self.size().max(f64::MIN_POSITIVE);
+        // Relative 1e-8: CAD files carry ~10 significant digits (OpenCASCADE's IGES writes
+        // 10), so the control points of a pole agree only to about 1e-10 of the model.
+        let tol = 1e-8 * self.size().max(f64::MIN_POSITIVE);
         (0..n_u).all(|i| {
             vec3::distance(self.control_point(i, 0), self.control_point(i, n_v - 1)) <= tol
                 && (self.weights[i * n_v] - self.weights[i * n_v + n_v - 1]).abs() <= 1e-12
@@ -232,7 +236,9 @@ impl NurbsSurface {
     /// control points of that boundary row coincide (a pole).
     pub fn degenerate_edges(&self) -> [bool; 4] {
         let (n_u, n_v) = (self.n_u(), self.n_v());
-        let tol = 1e-12 * self.size().max(f64::MIN_POSITIVE);
+        // Relative 1e-8: CAD files carry ~10 significant digits (OpenCASCADE's IGES writes
+        // 10), so the control points of a pole agree only to about 1e-10 of the model.
+        let tol = 1e-8 * self.size().max(f64::MIN_POSITIVE);
         let collapsed = |pts: Vec<[f64; 3]>| pts.iter().all(|&p| vec3::distance(p, pts[0]) <= tol);
         [
             collapsed((0..n_u).map(|i| self.control_point(i, 0)).collect()),
