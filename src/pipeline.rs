@@ -18,7 +18,8 @@ use hocurve_elastic::{
     SolverKind, SolverOptions,
 };
 use hocurve_geodesic::{
-    associate_boundary, place_boundary_nodes_with, AssociationRule, GeodesicError, PlacementOptions,
+    associate_boundary, place_boundary_nodes_with, project_nodes_onto_geometry, AssociationRule,
+    GeodesicError, PlacementOptions,
 };
 use hocurve_mesh::{HighOrderMesh, LinearMesh, MeshError};
 use hocurve_nodes::{NodeFamily, NodesError};
@@ -234,6 +235,9 @@ pub struct CurveReport {
     /// Smallest angle (degrees) between neighbouring curved surface edges, before the
     /// correction (None when not measured: 2D, projection, p ≤ 1, correction off).
     pub min_edge_angle_degrees: Option<f64>,
+    /// Corrections undone because an element touching them came out invalid (rounds of
+    /// re-curving, at most [`MAX_REPAIRS`]).
+    pub corrections_undone: usize,
     /// Nodes sliding in a plane (`--slide`).
     pub sliding_nodes: usize,
     /// Solver used: `direct`, `cg` or `none`.
@@ -280,6 +284,13 @@ pub struct CurvedMesh {
 
 /// Curves `linear` to order `options.order` onto `geometry` (None: straight-sided), calling
 /// `progress` before each step and during the elasticity solve.
+///
+/// The mesh returned is the one to write: equispaced nodes (what VTK and Gmsh read), its
+/// curved-boundary nodes on the geometry (interpolated from the node family used inside,
+/// then projected onto their entities), and its quality and certification measured on it.
+/// When the certification finds elements with det J ≤ 0 that touch edges rebuilt by the
+/// minimum-angle correction (Fig. 4), those corrections are undone and the mesh is curved
+/// again (at most [`MAX_REPAIRS`] times): a correction is kept only where it does no harm.
 pub fn curve_mesh(
     linear: &LinearMesh,
     geometry: Option<Geometry>,
@@ -290,57 +301,116 @@ pub fn curve_mesh(
     let mut timings = StepTimings::default();
     progress(Progress::Step(Step::HighOrderNodes));
     let t = Instant::now();
-    let mut mesh = HighOrderMesh::from_linear(linear, options.order, options.family)?;
-    let straight = mesh.nodes.clone();
+    let straight = HighOrderMesh::from_linear(linear, options.order, options.family)?;
     timings.high_order_nodes = t.elapsed().as_secs_f64();
 
-    let mut curved_facets = 0;
-    let mut associated = (0, 0, 0, 0.0, 0.0);
-    let mut on_geometry = 0;
-    let mut max_geometry_distance = 0.0;
-    let mut angles = (0, 0, None);
-    let mut sliding_nodes = 0;
-    let mut solve_info = (String::from("none"), 0, 0, 0.0);
-    if let Some(geometry) = geometry {
-        progress(Progress::Step(Step::Association));
-        let t = Instant::now();
-        let association = associate_boundary(
-            linear,
-            geometry.model,
-            geometry.rule,
-            options.geometry_tolerance,
-        )?;
-        timings.association = t.elapsed().as_secs_f64();
-        associated = (
-            association.by_name,
-            association.by_proximity,
-            association.unassociated,
-            association.tolerance,
-            association.max_vertex_move,
-        );
-        if association.by_name + association.by_proximity == 0 {
-            return Err(CurveError::NothingOnGeometry {
-                tolerance: association.tolerance,
-            });
+    let association = match geometry {
+        None => None,
+        Some(geometry) => {
+            progress(Progress::Step(Step::Association));
+            let t = Instant::now();
+            let association = associate_boundary(
+                linear,
+                geometry.model,
+                geometry.rule,
+                options.geometry_tolerance,
+            )?;
+            timings.association = t.elapsed().as_secs_f64();
+            if association.by_name + association.by_proximity == 0 {
+                return Err(CurveError::NothingOnGeometry {
+                    tolerance: association.tolerance,
+                });
+            }
+            Some((geometry, association))
         }
+    };
+
+    let mut placement = options.placement.clone();
+    let mut undone_corrections = 0;
+    loop {
+        let attempt = match &association {
+            None => Attempt::straight(&straight),
+            Some((geometry, association)) => Attempt::curved(
+                &straight,
+                *geometry,
+                association,
+                &placement,
+                options,
+                progress,
+                &mut timings,
+            )?,
+        };
+        let attempt = attempt.written(linear, options, geometry, &mut timings)?;
+        progress(Progress::Step(Step::Quality));
+        let t = Instant::now();
+        let quality = assess_certified(&attempt.mesh, options)?;
+        timings.quality += t.elapsed().as_secs_f64();
+
+        let culprits = harmful_corrections(&attempt, &quality, &placement);
+        if culprits.is_empty() || undone_corrections >= MAX_REPAIRS {
+            timings.total = start.elapsed().as_secs_f64();
+            let association = association.as_ref().map(|(_, a)| a);
+            return Ok(attempt.finish(options, association, quality, undone_corrections, timings));
+        }
+        undone_corrections += 1;
+        placement.uncorrected_edges.extend(culprits);
+    }
+}
+
+/// How many times [`curve_mesh`] undoes minimum-angle corrections and curves again.
+pub const MAX_REPAIRS: usize = 2;
+
+/// One curving of the mesh: boundary nodes placed, the displacement solved.
+struct Attempt {
+    /// The curved mesh (the node family of the options until [`Attempt::written`], then
+    /// equispaced).
+    mesh: HighOrderMesh,
+    /// The boundary placement (None: no geometry).
+    targets: Option<hocurve_geodesic::BoundaryTargets>,
+    /// Largest distance of a curved-boundary node of `mesh` from its entities.
+    max_geometry_distance: f64,
+    /// Nodes sliding in a plane.
+    sliding_nodes: usize,
+    /// Solver name, iterations, unknowns, relative residual.
+    solve: (String, usize, usize, f64),
+    /// The straight-sided positions of `mesh`'s nodes.
+    straight: Vec<[f64; 3]>,
+}
+
+impl Attempt {
+    /// The straight-sided mesh itself.
+    fn straight(straight: &HighOrderMesh) -> Self {
+        Attempt {
+            mesh: straight.clone(),
+            targets: None,
+            max_geometry_distance: 0.0,
+            sliding_nodes: 0,
+            solve: (String::from("none"), 0, 0, 0.0),
+            straight: straight.nodes.clone(),
+        }
+    }
+
+    /// Boundary nodes on the geometry (paper Sect. 4.1–4.2), then the elastic solve
+    /// (Sect. 4.3) unless `boundary_only`.
+    fn curved(
+        straight: &HighOrderMesh,
+        geometry: Geometry,
+        association: &hocurve_geodesic::BoundaryAssociation,
+        placement: &PlacementOptions,
+        options: &CurveOptions,
+        progress: &mut dyn FnMut(Progress),
+        timings: &mut StepTimings,
+    ) -> Result<Self, CurveError> {
         progress(Progress::Step(Step::BoundaryNodes));
         let t = Instant::now();
-        let targets =
-            place_boundary_nodes_with(&mesh, geometry.model, &association, &options.placement)?;
-        timings.boundary_nodes = t.elapsed().as_secs_f64();
-        curved_facets = targets.curved_facets;
-        on_geometry = targets.targets.len();
-        max_geometry_distance = targets.max_geometry_distance;
-        angles = (
-            targets.small_angle_edges,
-            targets.corrected_edges,
-            targets.min_edge_angle_degrees,
-        );
-
+        let targets = place_boundary_nodes_with(straight, geometry.model, association, placement)?;
+        timings.boundary_nodes += t.elapsed().as_secs_f64();
+        let mut mesh = straight.clone();
+        let mut attempt = Attempt::straight(straight);
         if !options.boundary_only {
             progress(Progress::Step(Step::Elasticity));
             let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
-            sliding_nodes = bc.sliding.len();
+            attempt.sliding_nodes = bc.sliding.len();
             let solution = solve_displacement_with_progress(
                 &mesh,
                 &options.material,
@@ -356,8 +426,8 @@ pub fn curve_mesh(
                     iterations: solution.iterations,
                 });
             }
-            timings.assembly = solution.timings.assembly;
-            timings.solve = solution.timings.solve;
+            timings.assembly += solution.timings.assembly;
+            timings.solve += solution.timings.solve;
             for (x, u) in mesh.nodes.iter_mut().zip(&solution.displacement) {
                 for d in 0..3 {
                     x[d] += u[d];
@@ -368,7 +438,7 @@ pub fn curve_mesh(
                 SolverKind::Cg => "cg",
                 SolverKind::Auto => "auto",
             };
-            solve_info = (
+            attempt.solve = (
                 solver.to_string(),
                 solution.iterations,
                 solution.dofs,
@@ -379,61 +449,150 @@ pub fn curve_mesh(
         for (&n, &x) in &targets.targets {
             mesh.nodes[n as usize] = x;
         }
+        attempt.max_geometry_distance = targets.max_geometry_distance;
+        attempt.mesh = mesh;
+        attempt.targets = Some(targets);
+        Ok(attempt)
     }
 
-    progress(Progress::Step(Step::Quality));
-    let t = Instant::now();
-    let quality = assess_certified(&mesh, options)?;
-    timings.quality = t.elapsed().as_secs_f64();
-    timings.total = start.elapsed().as_secs_f64();
+    /// The mesh as it is written: equispaced nodes interpolated from the family used
+    /// inside, curved-boundary nodes projected back onto their entities (the interpolant
+    /// leaves the surface between on-surface nodes), and the distance measured on them.
+    fn written(
+        mut self,
+        linear: &LinearMesh,
+        options: &CurveOptions,
+        geometry: Option<Geometry>,
+        timings: &mut StepTimings,
+    ) -> Result<Self, CurveError> {
+        let t = Instant::now();
+        if self.mesh.family != NodeFamily::Equispaced {
+            let resampled = self.mesh.resampled(NodeFamily::Equispaced)?;
+            // Vertices are nodes of every family: keep them bit for bit rather than
+            // through the interpolant's round-off.
+            let vertices = self.mesh.layout.num_vertices;
+            let mut nodes = resampled.nodes;
+            nodes[..vertices].copy_from_slice(&self.mesh.nodes[..vertices]);
+            self.mesh = HighOrderMesh { nodes, ..resampled };
+            self.straight =
+                HighOrderMesh::from_linear(linear, options.order, NodeFamily::Equispaced)?.nodes;
+        }
+        if let (Some(geometry), Some(targets)) = (geometry, &self.targets) {
+            self.max_geometry_distance = project_nodes_onto_geometry(
+                geometry.model,
+                &targets.entities,
+                &mut self.mesh.nodes,
+            )?;
+        }
+        timings.boundary_nodes += t.elapsed().as_secs_f64();
+        Ok(self)
+    }
 
-    let displacement = mesh
-        .nodes
-        .iter()
-        .zip(&straight)
-        .map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]])
-        .collect();
-    let summary = &quality.summary;
-    let report = CurveReport {
-        order: options.order,
-        node_family: options.family.to_string(),
-        elements: mesh.cells.len(),
-        nodes: mesh.nodes.len(),
-        dofs: solve_info.2,
-        curved_facets,
-        facets_by_name: associated.0,
-        facets_by_proximity: associated.1,
-        facets_straight: associated.2,
-        geometry_tolerance: associated.3,
-        max_vertex_move: associated.4,
-        boundary_nodes_on_geometry: on_geometry,
-        max_geometry_distance,
-        small_angle_edges: angles.0,
-        corrected_edges: angles.1,
-        min_edge_angle_degrees: angles.2,
-        sliding_nodes,
-        solver: solve_info.0,
-        iterations: solve_info.1,
-        residual: solve_info.3,
-        min_scaled_jacobian: summary.min_scaled_jacobian,
-        invalid_elements: invalid_elements(&quality),
-        certified_valid_elements: summary.validity.as_ref().map(|v| v.valid),
-        undecided_elements: summary.validity.as_ref().map(|v| v.undecided),
-        min_scaled_jacobian_lower_bound: summary
-            .validity
-            .as_ref()
-            .and_then(|v| v.min_scaled_jacobian_lower_bound),
-        fraction_above_0_95: summary.fraction_above_0_95,
-        elements_below_0_5: summary.elements_below_0_5,
-        max_stretching: summary.max_stretching,
-        timings,
+    /// The curved mesh with its quality and report.
+    fn finish(
+        self,
+        options: &CurveOptions,
+        association: Option<&hocurve_geodesic::BoundaryAssociation>,
+        quality: MeshQuality,
+        undone_corrections: usize,
+        timings: StepTimings,
+    ) -> CurvedMesh {
+        let mesh = self.mesh;
+        let displacement = mesh
+            .nodes
+            .iter()
+            .zip(&self.straight)
+            .map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]])
+            .collect();
+        let summary = &quality.summary;
+        let targets = self.targets.unwrap_or_default();
+        let report = CurveReport {
+            order: options.order,
+            node_family: options.family.to_string(),
+            elements: mesh.cells.len(),
+            nodes: mesh.nodes.len(),
+            dofs: self.solve.2,
+            curved_facets: targets.curved_facets,
+            facets_by_name: association.map_or(0, |a| a.by_name),
+            facets_by_proximity: association.map_or(0, |a| a.by_proximity),
+            facets_straight: association.map_or(0, |a| a.unassociated),
+            geometry_tolerance: association.map_or(0.0, |a| a.tolerance),
+            max_vertex_move: association.map_or(0.0, |a| a.max_vertex_move),
+            boundary_nodes_on_geometry: targets.targets.len(),
+            max_geometry_distance: self.max_geometry_distance,
+            small_angle_edges: targets.small_angle_edges,
+            corrected_edges: targets.corrected_edges,
+            min_edge_angle_degrees: targets.min_edge_angle_degrees,
+            corrections_undone: undone_corrections,
+            sliding_nodes: self.sliding_nodes,
+            solver: self.solve.0,
+            iterations: self.solve.1,
+            residual: self.solve.3,
+            min_scaled_jacobian: summary.min_scaled_jacobian,
+            invalid_elements: invalid_elements(&quality),
+            certified_valid_elements: summary.validity.as_ref().map(|v| v.valid),
+            undecided_elements: summary.validity.as_ref().map(|v| v.undecided),
+            min_scaled_jacobian_lower_bound: summary
+                .validity
+                .as_ref()
+                .and_then(|v| v.min_scaled_jacobian_lower_bound),
+            fraction_above_0_95: summary.fraction_above_0_95,
+            elements_below_0_5: summary.elements_below_0_5,
+            max_stretching: summary.max_stretching,
+            timings,
+        };
+        CurvedMesh {
+            mesh,
+            displacement,
+            quality,
+            report,
+        }
+    }
+}
+
+/// The corrected edges (Fig. 4) of `attempt` with both vertices on one element that is not
+/// certified valid (det J ≤ 0 found, or undecided), and not undone yet.
+fn harmful_corrections(
+    attempt: &Attempt,
+    quality: &MeshQuality,
+    placement: &PlacementOptions,
+) -> BTreeSet<[u32; 2]> {
+    let Some(targets) = &attempt.targets else {
+        return BTreeSet::new();
     };
-    Ok(CurvedMesh {
-        mesh,
-        displacement,
-        quality,
-        report,
-    })
+    if targets.corrected_edge_vertices.is_empty() {
+        return BTreeSet::new();
+    }
+    let mut suspect = invalid_cells(quality);
+    if let Some(checks) = &quality.validity {
+        suspect.extend(
+            checks
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.validity == Validity::Undecided)
+                .map(|(e, _)| e),
+        );
+    }
+    let corrected: BTreeSet<[u32; 2]> = targets
+        .corrected_edge_vertices
+        .iter()
+        .copied()
+        .filter(|e| !placement.uncorrected_edges.contains(e))
+        .collect();
+    let mut out = BTreeSet::new();
+    for e in suspect {
+        let cell = &attempt.mesh.cells[e];
+        let vertices = &cell.nodes[..cell.kind.num_vertices()];
+        for (i, &a) in vertices.iter().enumerate() {
+            for &b in &vertices[i + 1..] {
+                let key = [a.min(b), a.max(b)];
+                if corrected.contains(&key) {
+                    out.insert(key);
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Highest order certified by default. Measured (release, 2 cores): the Bézier check

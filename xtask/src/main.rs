@@ -3,7 +3,7 @@
 //! It runs, in order, stopping at the first failure with a summary of the steps and their
 //! times:
 //! 1. `cargo fmt --check` and `cargo clippy` (warnings are errors);
-//! 2. the Python environment of step 5 (so that `tests/io_foreign_readers.rs` reads real
+//! 2. the Python environment of step 6 (so that `tests/io_foreign_readers.rs` reads real
 //!    Gmsh/VTK files), then `cargo test --workspace` (with `HOCURVE_SNAPSHOT_QUICK=1`: the
 //!    slow sphere snapshots are left to step 3);
 //! 3. the golden snapshot suite (`tests/snapshots.rs`: NACA0012 at p = 1..5, triangles and
@@ -11,9 +11,12 @@
 //!    `.vtu` and quality summary), once with `RAYON_NUM_THREADS=1` and once with `=2`;
 //!    then the sphere at p = 2..5 end to end (`tests/curving.rs`, ignored by plain
 //!    `cargo test`: boundary nodes on the sphere, no invalid element, volume error falling);
-//! 4. the paper reproduction: Sect. 5.1's NACA0012 figures beside ours (fails if our quality
+//! 4. the CAD families (`xtask/src/cad.rs`): OpenCASCADE spheres with pole and seam
+//!    vertices curved with the default options at p = 2..5, checked by Gmsh (no det J ≤ 0,
+//!    written nodes on the geometry to 1e-10); `--full` adds the IGES wing body;
+//! 5. the paper reproduction: Sect. 5.1's NACA0012 figures beside ours (fails if our quality
 //!    is below the paper's) and the Fig. 12b interpolation tables;
-//! 5. the interoperability checks, in which the real VTK and Gmsh Python packages (in
+//! 6. the interoperability checks, in which the real VTK and Gmsh Python packages (in
 //!    `target/pyenv`, created if missing; skipped loudly only under `--offline`) read the
 //!    meshes `hocurve` writes and measure them with their own shape functions: straight
 //!    samples and fixtures, the committed snapshots (VTK: det J > 0, volume of the
@@ -30,6 +33,7 @@ use std::process::Command;
 use anyhow::{bail, Context, Result};
 
 mod bench;
+mod cad;
 mod curved_interop;
 mod paper;
 mod snapshots;
@@ -46,10 +50,14 @@ fn main() -> Result<()> {
             None => Ok(()),
         },
         Some("paper") => paper(),
+        Some("cad") => match python_env(args.iter().any(|a| a == "--offline"))? {
+            Some(python) => cad::cad_families(&python, args.iter().any(|a| a == "--full")),
+            None => Ok(()),
+        },
         Some("bench") => bench::bench(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask verify [--offline] [--skip-lint] [--review]\n       cargo xtask interop [--offline]\n       cargo xtask curved-interop [--offline]\n       cargo xtask snapshots\n       cargo xtask paper\n       cargo xtask interpolation\n       cargo xtask bench [--orders 2,3,4,5] [--gmsh-timeout 120]"
+                "usage: cargo xtask verify [--offline] [--skip-lint] [--review] [--full]\n       cargo xtask cad [--full]\n       cargo xtask interop [--offline]\n       cargo xtask curved-interop [--offline]\n       cargo xtask snapshots\n       cargo xtask paper\n       cargo xtask interpolation\n       cargo xtask bench [--orders 2,3,4,5] [--gmsh-timeout 120]"
             );
             bail!("unknown or missing task")
         }
@@ -200,6 +208,14 @@ fn verify_steps(
                     "--nocapture",
                 ]),
             )
+        },
+    )?;
+    step(
+        log,
+        "CAD families p = 2..5 (Gmsh checks)",
+        || match python_env(offline)? {
+            Some(python) => cad::cad_families(&python, args.iter().any(|a| a == "--full")),
+            None => Ok(()),
         },
     )?;
     step(log, "paper reproduction", paper)?;

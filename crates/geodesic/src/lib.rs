@@ -17,8 +17,8 @@ pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
 pub use chart::SurfaceChart;
 pub use path::GeodesicPath;
 pub use placement::{
-    place_boundary_nodes, place_boundary_nodes_with, BoundaryNodeStrategy, BoundaryTargets,
-    PlacementOptions,
+    max_distance_from_geometry, place_boundary_nodes, place_boundary_nodes_with,
+    project_nodes_onto_geometry, BoundaryNodeStrategy, BoundaryTargets, PlacementOptions,
 };
 
 /// What went wrong while putting boundary nodes on the geometry.

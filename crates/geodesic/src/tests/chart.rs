@@ -33,7 +33,11 @@ fn a_point_a_hair_off_a_pole_is_at_the_pole() {
             // inversion returns for a vertex snapped to the pole).
             let off = v + 1e-9 * (v1 - v0) * if v == v0 { 1.0 } else { -1.0 };
             for w in [v, off] {
-                assert_eq!(chart.free_direction_at([u, w]), Some((0, pole)), "u {u} v {w}");
+                assert_eq!(
+                    chart.free_direction_at([u, w]),
+                    Some((0, pole)),
+                    "u {u} v {w}"
+                );
             }
         }
     }
@@ -68,7 +72,11 @@ fn a_path_from_a_pole_leaves_along_the_meridian_of_its_other_end() {
     let chart = SurfaceChart::new(surface(&model));
     let target = {
         let (theta, phi) = (0.4_f64, 2.2_f64);
-        [theta.sin() * phi.cos(), theta.sin() * phi.sin(), theta.cos()]
+        [
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        ]
     };
     let b = param_of(&chart, target);
     for pole in [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]] {

@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""Check a curved mesh written by hocurve against the geometry, with Gmsh as the evaluator.
+
+    target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs) GROUP
+
+- Every node of every boundary element of physical group GROUP (the curved wall) lies on
+  the geometry: for a JSON sphere, | |x - c| - r |; for IGES, the distance to the nearest
+  face of the model as OpenCASCADE (Gmsh's `getClosestPoint`) computes it.
+- det J of every cell, by Gmsh's `getJacobians`, at the degree-2p Gauss points and at the
+  element's own nodes, is positive; Ĩ = min det J / max det J over those points.
+
+Prints one JSON line {"max_distance", "size", "invalid", "min_scaled_jacobian", "elements"};
+exits 1 if a node is farther than 1e-10 x the model size or an element has det J <= 0.
+"""
+
+import json
+import sys
+
+import gmsh
+import numpy as np
+
+
+def main():
+    mesh_path, geometry_path, group = sys.argv[1:4]
+    gmsh.initialize(readConfigFiles=False)
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.open(mesh_path)
+    wall_nodes = group_nodes(group)
+    coords = node_coordinates()
+    points = np.array([coords[n] for n in sorted(wall_nodes)])
+    distance, size = distances(geometry_path, points)
+    invalid, min_scaled, elements = jacobians()
+    gmsh.finalize()
+    result = {
+        "max_distance": float(distance.max()) if len(distance) else 0.0,
+        "size": size,
+        "wall_nodes": len(points),
+        "invalid": invalid,
+        "min_scaled_jacobian": min_scaled,
+        "elements": elements,
+    }
+    print(json.dumps(result))
+    ok = result["max_distance"] <= 1e-10 * size and invalid == 0
+    sys.exit(0 if ok else 1)
+
+
+def group_nodes(name):
+    for dim, tag in gmsh.model.getPhysicalGroups():
+        if gmsh.model.getPhysicalName(dim, tag) == name:
+            nodes = set()
+            for entity in gmsh.model.getEntitiesForPhysicalGroup(dim, tag):
+                _, _, element_nodes = gmsh.model.mesh.getElements(dim, entity)
+                for block in element_nodes:
+                    nodes.update(int(n) for n in block)
+            return nodes
+    raise SystemExit(f"no physical group {name!r}")
+
+
+def node_coordinates():
+    tags, xyz, _ = gmsh.model.mesh.getNodes()
+    xyz = np.asarray(xyz).reshape(-1, 3)
+    return {int(t): xyz[i] for i, t in enumerate(tags)}
+
+
+def distances(path, points):
+    if path.endswith(".json"):
+        with open(path) as f:
+            entities = json.load(f)["entities"]
+        spheres = [e for e in entities if e["kind"] == "sphere"]
+        if len(spheres) != 1:
+            raise SystemExit("the JSON check knows one sphere only")
+        c, r = np.array(spheres[0]["center"], float), float(spheres[0]["radius"])
+        return np.abs(np.linalg.norm(points - c, axis=1) - r), 2.0 * r
+    # IGES: OpenCASCADE's closest point on each face, in a model of its own.
+    gmsh.model.add("geometry")
+    gmsh.model.occ.importShapes(path)
+    gmsh.model.occ.synchronize()
+    faces = [t for _, t in gmsh.model.getEntities(2)]
+    box = gmsh.model.getBoundingBox(-1, -1)
+    size = float(np.linalg.norm(np.array(box[3:]) - np.array(box[:3])))
+    best = np.full(len(points), np.inf)
+    flat = points.reshape(-1)
+    for face in faces:
+        closest, _ = gmsh.model.getClosestPoint(2, face, flat)
+        d = np.linalg.norm(np.asarray(closest).reshape(-1, 3) - points, axis=1)
+        best = np.minimum(best, d)
+    gmsh.model.remove()
+    gmsh.model.setCurrent(gmsh.model.list()[0])
+    return best, size
+
+
+def jacobians():
+    invalid, min_scaled, elements = 0, np.inf, 0
+    dim = gmsh.model.getDimension()
+    for element_type in gmsh.model.mesh.getElementTypes(dim):
+        _, _, order, _, local_nodes, _ = gmsh.model.mesh.getElementProperties(element_type)
+        gauss, _ = gmsh.model.mesh.getIntegrationPoints(element_type, "Gauss%d" % (2 * order))
+        points = np.concatenate([np.asarray(gauss), np.asarray(local_nodes)[:len(local_nodes)]])
+        if dim == 2:
+            points = pad(points, 2)
+        det_gauss = determinants(element_type, gauss, dim)
+        det_nodes = determinants(element_type, pad(local_nodes, dim) if dim == 2 else local_nodes, dim)
+        det = np.concatenate([det_gauss, det_nodes], axis=1)
+        elements += det.shape[0]
+        invalid += int(np.sum(det.min(axis=1) <= 0))
+        scaled = det.min(axis=1) / np.abs(det).max(axis=1)
+        min_scaled = min(min_scaled, float(scaled.min()))
+    return invalid, min_scaled, elements
+
+
+def pad(points, dim):
+    p = np.asarray(points).reshape(-1, dim)
+    return np.hstack([p, np.zeros((p.shape[0], 3 - dim))]).reshape(-1)
+
+
+def determinants(element_type, local, dim):
+    _, det, _ = gmsh.model.mesh.getJacobians(element_type, list(local))
+    count = len(local) // 3
+    return np.asarray(det).reshape(-1, count)
+
+
+if __name__ == "__main__":
+    main()
