@@ -595,10 +595,14 @@ fn harmful_corrections(
     out
 }
 
-/// Highest order certified by default. Measured (release, 2 cores): the Bézier check
-/// takes 0.24 s on the p = 4 sphere (5695 tets) and 1.2 s on a hybrid hex/prism mesh at
-/// p = 5 (426 cells), but over 5 minutes on that mesh at p = 6 (90 % in the tabulation of
-/// basis gradients). Higher orders are left to `hocurve quality --certify`.
+/// Highest order at which meshes with quadrilaterals, hexahedra or prisms are certified by
+/// default; triangles and tetrahedra are certified at every order. Measured (release, 2
+/// cores): the Bézier check takes 0.24 s on the p = 4 sphere (5695 tets), 2.3 s and 9.8 s on
+/// a 1493-tet sphere at p = 7 and 8 (its elastic solve: 20 s and 55 s), 1.2 s on a hybrid
+/// hex/prism mesh at p = 5 (426 cells), but over a minute on that mesh at p = 6: the
+/// re-sampling of det J on subdivided tensor-product regions costs O(n²) per lattice point
+/// (343 nodes, 5832 lattice points per region). Above this order such meshes are reported
+/// as not certified, and `hocurve curve` refuses to write them without `--no-certify`.
 pub const CERTIFY_MAX_ORDER: usize = 5;
 
 /// [`assess`] with the Bézier validity check when `options.certify` asks for it and the
@@ -607,7 +611,16 @@ fn assess_certified(
     mesh: &HighOrderMesh,
     options: &CurveOptions,
 ) -> Result<MeshQuality, QualityError> {
-    if !options.certify || options.quality.bezier.is_some() || mesh.order > CERTIFY_MAX_ORDER {
+    let tensor_cells = mesh.cells.iter().any(|c| {
+        !matches!(
+            c.kind.shape(),
+            Ok(hocurve_nodes::Shape::Tri | hocurve_nodes::Shape::Tet)
+        )
+    });
+    if !options.certify
+        || options.quality.bezier.is_some()
+        || (tensor_cells && mesh.order > CERTIFY_MAX_ORDER)
+    {
         return assess(mesh, &options.quality);
     }
     let certified = QualityOptions {

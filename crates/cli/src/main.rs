@@ -353,11 +353,35 @@ fn finish(
     out: &Path,
     output: &OutputArgs,
 ) -> Result<()> {
+    let tensor_cells = linear.cells.iter().any(|c| {
+        !matches!(
+            c.kind,
+            hocurve_mesh::ElementType::Tri | hocurve_mesh::ElementType::Tet
+        )
+    });
+    if options.certify
+        && tensor_cells
+        && options.order > hocurve::pipeline::CERTIFY_MAX_ORDER
+        && !output.allow_invalid
+    {
+        bail!(
+            "order {} cannot be certified valid: the Bézier check does not run on quadrilaterals, hexahedra or prisms above order {} (too slow for now); --no-certify curves and writes the mesh uncertified",
+            options.order,
+            hocurve::pipeline::CERTIFY_MAX_ORDER
+        );
+    }
     let start = Instant::now();
     let display = ProgressDisplay::new();
     let mut curved = curve_mesh(linear, geometry, options, &mut |p| display.report(p))?;
     display.finish();
     let failures = uncertified_elements(linear, &curved);
+    if options.certify && curved.report.certified_valid_elements.is_none() && !output.allow_invalid
+    {
+        bail!(
+            "validity not certified: the Bézier check does not run on quadrilaterals, hexahedra or prisms above order {} (too slow for now); nothing written (--no-certify writes the mesh uncertified)",
+            hocurve::pipeline::CERTIFY_MAX_ORDER
+        );
+    }
     if !failures.is_empty() && !output.allow_invalid {
         print!("{}", curved.quality.summary);
         bail!(
@@ -613,7 +637,7 @@ fn print_summary_table(curved: &CurvedMesh, out: &Path) {
                 "{valid} of {} elements have det J > 0 everywhere (Bézier bounds), {undecided} undecided",
                 r.elements,
             ),
-            _ => "not certified (--no-certify, or order above 5: use hocurve quality --certify)".to_string(),
+            _ => "not certified (--no-certify)".to_string(),
         },
     ));
     rows.push((
