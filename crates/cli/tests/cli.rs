@@ -155,3 +155,47 @@ fn bad_requests_fail_with_one_line_and_leave_no_output() {
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert!(left.is_empty(), "files left behind: {left:?}");
 }
+
+/// An element that cannot be certified valid (the all-quadrilateral NACA0012 mesh has cells
+/// with two edges on the far-field circle: curved, their corner opens to 180° and det J
+/// vanishes there) makes `curve` exit non-zero, name the element by its Gmsh tag, and write
+/// nothing — unless `--allow-invalid`, which writes the mesh and still exits non-zero.
+#[test]
+fn uncertified_elements_fail_the_run_and_are_named() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mesh = root.join("fixtures/quad/naca0012_quads.msh");
+    let geometry = root.join("fixtures/naca0012/naca0012.json");
+    let dir = tempfile::tempdir().unwrap();
+    let args = |extra: &[&str]| -> Vec<String> {
+        let mut a: Vec<String> = vec![
+            "curve".into(),
+            mesh.display().to_string(),
+            "-p".into(),
+            "3".into(),
+            "--geometry".into(),
+            geometry.display().to_string(),
+            "-o".into(),
+            "out.vtu".into(),
+        ];
+        a.extend(extra.iter().map(|s| s.to_string()));
+        a
+    };
+    let run = |extra: &[&str]| {
+        let a = args(extra);
+        let refs: Vec<&str> = a.iter().map(String::as_str).collect();
+        hocurve(&refs, dir.path())
+    };
+    let out = run(&[]);
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(err.contains("not certified valid"), "{err}");
+    assert!(err.contains("element tag"), "{err}");
+    assert!(err.contains("nothing written"), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(!dir.path().join("out.vtu").exists());
+
+    let out = run(&["--allow-invalid"]);
+    assert!(!out.status.success());
+    assert!(stderr(&out).contains("written anyway"), "{}", stderr(&out));
+    assert!(dir.path().join("out.vtu").exists());
+}
