@@ -238,6 +238,9 @@ pub struct CurveReport {
     /// Corrections undone because an element touching them came out invalid (rounds of
     /// re-curving, at most [`MAX_REPAIRS`]).
     pub corrections_undone: usize,
+    /// Interior edges split before curving (the input cells holding them had two facets on
+    /// one curved entity, which curving would open to a 180° corner with det J = 0).
+    pub edges_split: usize,
     /// Nodes sliding in a plane (`--slide`).
     pub sliding_nodes: usize,
     /// Solver used: `direct`, `cg` or `none`.
@@ -280,6 +283,10 @@ pub struct CurvedMesh {
     pub quality: MeshQuality,
     /// The report.
     pub report: CurveReport,
+    /// The linear mesh that was curved, when it is not the input: some input cells had two
+    /// facets on one curved entity and their opposite edges were split (the cells of
+    /// [`CurvedMesh::mesh`] are those of this mesh, in its order).
+    pub split_input: Option<LinearMesh>,
 }
 
 /// Curves `linear` to order `options.order` onto `geometry` (None: straight-sided), calling
@@ -299,31 +306,46 @@ pub fn curve_mesh(
 ) -> Result<CurvedMesh, CurveError> {
     let start = Instant::now();
     let mut timings = StepTimings::default();
-    progress(Progress::Step(Step::HighOrderNodes));
-    let t = Instant::now();
-    let straight = HighOrderMesh::from_linear(linear, options.order, options.family)?;
-    timings.high_order_nodes = t.elapsed().as_secs_f64();
-
-    let association = match geometry {
-        None => None,
-        Some(geometry) => {
-            progress(Progress::Step(Step::Association));
-            let t = Instant::now();
+    let mut association = None;
+    let split_input: LinearMesh;
+    let mut linear = linear;
+    let mut split_edges = 0;
+    if let Some(geometry) = geometry {
+        progress(Progress::Step(Step::Association));
+        let t = Instant::now();
+        let associate = |linear: &LinearMesh| {
             let association = associate_boundary(
                 linear,
                 geometry.model,
                 geometry.rule,
                 options.geometry_tolerance,
             )?;
-            timings.association = t.elapsed().as_secs_f64();
             if association.by_name + association.by_proximity == 0 {
                 return Err(CurveError::NothingOnGeometry {
                     tolerance: association.tolerance,
                 });
             }
-            Some((geometry, association))
+            Ok(association)
+        };
+        let found = associate(linear)?;
+        // Cells that no curving can make valid are split first (see `split_edges`).
+        let edges = edges_opposite_doubly_curved_corners(linear, &found);
+        let (split, count) = linear.split_edges(&edges);
+        if count > 0 {
+            split_input = split;
+            linear = &split_input;
+            association = Some((geometry, associate(linear)?));
+            split_edges = count;
+        } else {
+            association = Some((geometry, found));
         }
-    };
+        timings.association = t.elapsed().as_secs_f64();
+    }
+
+    progress(Progress::Step(Step::HighOrderNodes));
+    let t = Instant::now();
+    let straight = HighOrderMesh::from_linear(linear, options.order, options.family)?;
+    timings.high_order_nodes = t.elapsed().as_secs_f64();
 
     let mut placement = options.placement.clone();
     let mut undone_corrections = 0;
@@ -350,11 +372,78 @@ pub fn curve_mesh(
         if culprits.is_empty() || undone_corrections >= MAX_REPAIRS {
             timings.total = start.elapsed().as_secs_f64();
             let association = association.as_ref().map(|(_, a)| a);
-            return Ok(attempt.finish(options, association, quality, undone_corrections, timings));
+            let mut curved =
+                attempt.finish(options, association, quality, undone_corrections, timings);
+            if split_edges > 0 {
+                curved.report.edges_split = split_edges;
+                curved.split_input = Some(linear.clone());
+            }
+            return Ok(curved);
         }
         undone_corrections += 1;
         placement.uncorrected_edges.extend(culprits);
     }
+}
+
+/// The edges to split so that no triangle or tetrahedron has two facets on one curved
+/// entity: for such a cell, the edge opposite the corner the two facets share, unless that
+/// edge lies on a declared facet (splitting it would put a new vertex on the boundary, off
+/// the geometry). Lower vertex id first, sorted, no repeats.
+fn edges_opposite_doubly_curved_corners(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> Vec<[u32; 2]> {
+    let sorted = |v: &[u32]| {
+        let mut v = v.to_vec();
+        v.sort_unstable();
+        v
+    };
+    let facet_entity: std::collections::HashMap<Vec<u32>, usize> = linear
+        .facets
+        .iter()
+        .zip(&association.facet_entity)
+        .filter_map(|(f, e)| e.map(|e| (sorted(&f.vertices), e)))
+        .collect();
+    let on_a_facet = |a: u32, b: u32| {
+        linear
+            .facets
+            .iter()
+            .any(|f| f.vertices.contains(&a) && f.vertices.contains(&b))
+    };
+    let mut edges = BTreeSet::new();
+    for cell in &linear.cells {
+        if !matches!(
+            cell.kind,
+            hocurve_mesh::ElementType::Tri | hocurve_mesh::ElementType::Tet
+        ) {
+            continue;
+        }
+        let n = cell.vertices.len();
+        // A simplex's facet k holds every vertex but vertex k.
+        let entity: Vec<Option<usize>> = (0..n)
+            .map(|skip| {
+                let f: Vec<u32> = (0..n)
+                    .filter(|&k| k != skip)
+                    .map(|k| cell.vertices[k])
+                    .collect();
+                facet_entity.get(&sorted(&f)).copied()
+            })
+            .collect();
+        for i in 0..n {
+            for j in i + 1..n {
+                if entity[i].is_none() || entity[i] != entity[j] {
+                    continue;
+                }
+                // Facets i and j share every vertex but i and j: the edge (i, j) is opposite
+                // their common corner (an edge in a tetrahedron, a vertex in a triangle).
+                let (a, b) = (cell.vertices[i], cell.vertices[j]);
+                if !on_a_facet(a, b) {
+                    edges.insert([a.min(b), a.max(b)]);
+                }
+            }
+        }
+    }
+    edges.into_iter().collect()
 }
 
 /// How many times [`curve_mesh`] undoes minimum-angle corrections and curves again.
@@ -524,6 +613,7 @@ impl Attempt {
             corrected_edges: targets.corrected_edges,
             min_edge_angle_degrees: targets.min_edge_angle_degrees,
             corrections_undone: undone_corrections,
+            edges_split: 0,
             sliding_nodes: self.sliding_nodes,
             solver: self.solve.0,
             iterations: self.solve.1,
@@ -546,6 +636,7 @@ impl Attempt {
             displacement,
             quality,
             report,
+            split_input: None,
         }
     }
 }
@@ -863,6 +954,71 @@ mod tests {
         );
         mesh.nodes[first_edge_node] = [b[0] + 0.4 * (a[0] - b[0]), 0.0, 0.0];
         mesh
+    }
+
+    /// One tetrahedron 0 1 2 3 with the facets 0 1 2 and 0 1 3 declared.
+    fn tet_with_two_facets() -> LinearMesh {
+        let facet = |v: [u32; 3]| Element {
+            kind: ElementType::Tri,
+            vertices: v.to_vec(),
+            entity: 1,
+        };
+        LinearMesh {
+            dim: 3,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            cells: vec![Element {
+                kind: ElementType::Tet,
+                vertices: vec![0, 1, 2, 3],
+                entity: 1,
+            }],
+            facets: vec![facet([0, 1, 2]), facet([0, 3, 1])],
+            ..Default::default()
+        }
+    }
+
+    fn association(facet_entity: Vec<Option<usize>>) -> hocurve_geodesic::BoundaryAssociation {
+        hocurve_geodesic::BoundaryAssociation {
+            facet_entity,
+            vertex_targets: BTreeMap::new(),
+            vertex_entities: BTreeMap::new(),
+            tolerance: 0.0,
+            by_name: 2,
+            by_proximity: 0,
+            unassociated: 0,
+            max_vertex_move: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_cell_with_two_facets_on_one_entity_has_its_opposite_edge_split() {
+        let mesh = tet_with_two_facets();
+        // Both facets on entity 0: they share the edge 0 1; the opposite edge is 2 3.
+        let edges = edges_opposite_doubly_curved_corners(&mesh, &association(vec![Some(0); 2]));
+        assert_eq!(edges, vec![[2, 3]]);
+        // On different entities (a feature edge between two surfaces), or one straight:
+        // nothing to split.
+        for entities in [vec![Some(0), Some(1)], vec![Some(0), None]] {
+            let edges = edges_opposite_doubly_curved_corners(&mesh, &association(entities));
+            assert!(edges.is_empty());
+        }
+        // An opposite edge on a declared facet is left alone (its midpoint would be a new
+        // boundary vertex off the geometry).
+        let mut with_third = mesh.clone();
+        with_third.facets.push(Element {
+            kind: ElementType::Tri,
+            vertices: vec![1, 2, 3],
+            entity: 2,
+        });
+        let edges = edges_opposite_doubly_curved_corners(
+            &with_third,
+            &association(vec![Some(0), Some(0), None]),
+        );
+        assert!(edges.is_empty());
     }
 
     #[test]

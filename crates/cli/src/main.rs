@@ -454,6 +454,9 @@ impl std::fmt::Display for Uncertified {
 }
 
 fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified {
+    // Cells are those of the mesh that was curved (the input, or the input with split
+    // edges: the halves of a split cell keep its tag, appended ones get new tags).
+    let linear = curved.split_input.as_ref().unwrap_or(linear);
     let quality = &curved.quality;
     let mut cells = hocurve::pipeline::invalid_cells(quality);
     if let Some(checks) = &quality.validity {
@@ -483,7 +486,7 @@ fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified
                 .map(|v| format!(", Ĩ ≥ {:.3}", v[c].scaled_jacobian_lower_bound))
                 .unwrap_or_default();
             format!(
-                "element tag {} at ({:.4}, {:.4}, {:.4}){bound}",
+                "input element tag {} at ({:.4}, {:.4}, {:.4}){bound}",
                 linear.cell_tag(c),
                 centre[0],
                 centre[1],
@@ -606,6 +609,15 @@ fn print_summary_table(curved: &CurvedMesh, out: &Path) {
     }
     if r.sliding_nodes > 0 {
         rows.push(("sliding nodes", r.sliding_nodes.to_string()));
+    }
+    if r.edges_split > 0 {
+        rows.push((
+            "edges split",
+            format!(
+                "{} interior edge(s) split before curving: their cells had two facets on one curved entity (a 180° corner once curved)",
+                r.edges_split
+            ),
+        ));
     }
     if r.corrections_undone > 0 {
         rows.push((

@@ -29,6 +29,7 @@ mod high_order;
 mod jagged;
 mod linear;
 mod resample;
+mod split;
 mod topology;
 
 pub use element::ElementType;

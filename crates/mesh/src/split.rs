@@ -1,0 +1,71 @@
+//! Edge splitting of simplex meshes: the repair of input cells that no curving can make
+//! valid.
+//!
+//! A tetrahedron with two faces on one smooth curved surface (or a triangle with two edges
+//! on one smooth curve) has det J = 0 along their common edge once both are curved onto the
+//! geometry: both faces become tangent to the surface there, so the corner between them
+//! opens to 180°. Splitting the opposite edge at its midpoint gives two cells with one such
+//! face each, whose corner stays near the straight cell's.
+
+use crate::{Element, ElementType, LinearMesh};
+
+impl LinearMesh {
+    /// Splits each edge (a pair of vertex ids) at its midpoint: every triangle or
+    /// tetrahedron holding both ends, cell or facet, becomes two with the new vertex in
+    /// place of one end and of the other (orientation is kept: the new vertex lies on the
+    /// segment). The first half keeps the element's position, the second is appended.
+    /// Edges held by a quadrilateral, hexahedron or prism cannot be split conformingly and
+    /// are skipped, as are edges that no longer exist (split by an earlier pair). Returns the
+    /// new mesh and the number of edges split.
+    pub fn split_edges(&self, edges: &[[u32; 2]]) -> (LinearMesh, usize) {
+        let mut mesh = self.clone();
+        let mut split = 0;
+        for &[a, b] in edges {
+            let holds = |e: &Element| e.vertices.contains(&a) && e.vertices.contains(&b);
+            let holders = mesh.cells.iter().chain(&mesh.facets).filter(|e| holds(e));
+            let mut any = false;
+            let mut simplices_only = true;
+            for e in holders {
+                any = true;
+                simplices_only &= matches!(
+                    e.kind,
+                    ElementType::Tri | ElementType::Tet | ElementType::Line
+                );
+            }
+            if a == b || !any || !simplices_only {
+                continue;
+            }
+            let (pa, pb) = (mesh.vertices[a as usize], mesh.vertices[b as usize]);
+            let m = mesh.vertices.len() as u32;
+            mesh.vertices.push([
+                0.5 * (pa[0] + pb[0]),
+                0.5 * (pa[1] + pb[1]),
+                0.5 * (pa[2] + pb[2]),
+            ]);
+            for list in [&mut mesh.cells, &mut mesh.facets] {
+                let mut second = Vec::new();
+                for e in list.iter_mut().filter(|e| holds(e)) {
+                    let mut other = e.clone();
+                    for v in &mut e.vertices {
+                        if *v == b {
+                            *v = m;
+                        }
+                    }
+                    for v in &mut other.vertices {
+                        if *v == a {
+                            *v = m;
+                        }
+                    }
+                    second.push(other);
+                }
+                list.extend(second);
+            }
+            split += 1;
+        }
+        (mesh, split)
+    }
+}
+
+#[cfg(test)]
+#[path = "tests/split.rs"]
+mod tests;

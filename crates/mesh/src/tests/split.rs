@@ -1,0 +1,84 @@
+use super::*;
+use crate::Element;
+
+fn tet(vertices: [u32; 4]) -> Element {
+    Element {
+        kind: ElementType::Tet,
+        vertices: vertices.to_vec(),
+        entity: 1,
+    }
+}
+
+/// Two tetrahedra sharing the face 0 1 2, and a facet on edge 0 1.
+fn pair() -> LinearMesh {
+    LinearMesh {
+        dim: 3,
+        vertices: vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+            [0.0, 0.0, -1.0],
+        ],
+        cells: vec![tet([0, 1, 2, 3]), tet([0, 2, 1, 4])],
+        facets: vec![Element {
+            kind: ElementType::Tri,
+            vertices: vec![0, 1, 3],
+            entity: 7,
+        }],
+        ..Default::default()
+    }
+}
+
+fn volume(mesh: &LinearMesh, e: &Element) -> f64 {
+    let x: Vec<[f64; 3]> = e
+        .vertices
+        .iter()
+        .map(|&v| mesh.vertices[v as usize])
+        .collect();
+    let d = |i: usize| [x[i][0] - x[0][0], x[i][1] - x[0][1], x[i][2] - x[0][2]];
+    let (a, b, c) = (d(1), d(2), d(3));
+    (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0]))
+        / 6.0
+}
+
+#[test]
+fn splitting_an_edge_halves_every_simplex_around_it_and_keeps_volume_and_orientation() {
+    let mesh = pair();
+    let before: f64 = mesh.cells.iter().map(|c| volume(&mesh, c)).sum();
+    let (split, count) = mesh.split_edges(&[[0, 1]]);
+    assert_eq!(count, 1);
+    assert_eq!(split.vertices.len(), 6);
+    assert_eq!(split.vertices[5], [0.5, 0.0, 0.0]);
+    assert_eq!(split.cells.len(), 4);
+    assert_eq!(split.facets.len(), 2);
+    let after: f64 = split.cells.iter().map(|c| volume(&split, c)).sum();
+    assert!((before - after).abs() < 1e-15);
+    for c in &split.cells {
+        assert!(volume(&split, c) > 0.0, "{c:?}");
+        assert!(!(c.vertices.contains(&0) && c.vertices.contains(&1)));
+    }
+    assert!(split.facets.iter().all(|f| f.entity == 7));
+    assert!(split.validate().is_ok());
+    assert!(split.check_orientation().is_ok());
+}
+
+#[test]
+fn edges_that_do_not_exist_or_touch_non_simplices_are_not_split() {
+    let mesh = pair();
+    let (same, count) = mesh.split_edges(&[[3, 4]]);
+    assert_eq!(count, 0);
+    assert_eq!(same, mesh);
+    let mut mixed = mesh.clone();
+    mixed.cells.push(Element {
+        kind: ElementType::Hex,
+        vertices: vec![0, 1, 5, 6, 7, 8, 9, 10],
+        entity: 1,
+    });
+    let (_, count) = mixed.split_edges(&[[0, 1]]);
+    assert_eq!(count, 0);
+    // The second of two overlapping requests is gone once the first is split.
+    let (_, count) = mesh.split_edges(&[[0, 1], [1, 0]]);
+    assert_eq!(count, 1);
+}
