@@ -56,6 +56,9 @@ pub const RECOGNITION_TOLERANCE: f64 = 1e-8;
 /// Converts every independent entity of a parsed IGES file into a named exact NURBS curve or
 /// surface (see the module documentation for what is kept and how).
 pub fn geometry_from_iges(model: &IgesModel) -> Result<GeometryModel, IgesError> {
+    // The conversion follows references recursively: bounded once they are acyclic and
+    // shallow.
+    model.check_references()?;
     Converter { model }.convert()
 }
 

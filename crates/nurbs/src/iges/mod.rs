@@ -24,6 +24,10 @@ pub use convert::{geometry_from_iges, read_iges_geometry, RECOGNITION_TOLERANCE}
 pub use entities::{BSplineCurveData, BSplineSurfaceData, EntityData};
 pub use sections::{parse_int, parse_real, DirectoryEntry, GlobalSection, Param, ParamValue};
 
+/// Deepest chain of entity references accepted (a trimmed surface of a surface of
+/// revolution of a composite of curves is 4 deep; real files stay far below this).
+pub const MAX_NESTING: usize = 64;
+
 /// Errors of IGES reading. `line` is the 1-based line number in the file.
 #[derive(Debug, thiserror::Error)]
 pub enum IgesError {
@@ -92,6 +96,27 @@ pub enum IgesError {
     /// A 108 plane with no boundary, in a model with nothing else to size its patch by.
     #[error("IGES line {line}: plane (entity type 108, DE {de}) has no boundary and the model nothing else to bound it")]
     UnboundedPlane { line: usize, de: u32 },
+    /// Directory-entry pointers that lead back to where they started (a trimmed surface
+    /// whose surface is itself, a composite curve that contains itself, ...).
+    #[error(
+        "IGES line {line}: entity type {entity_type} (DE {de}) refers to itself through DE {cycle}"
+    )]
+    ReferenceCycle {
+        line: usize,
+        de: u32,
+        entity_type: i32,
+        /// The DE numbers of the cycle, e.g. "7 -> 9 -> 7".
+        cycle: String,
+    },
+    /// References nested deeper than [`MAX_NESTING`] (no CAD system writes that; converting
+    /// it would recurse without a useful bound).
+    #[error("IGES line {line}: entity type {entity_type} (DE {de}) nests references more than {max} deep")]
+    NestingTooDeep {
+        line: usize,
+        de: u32,
+        entity_type: i32,
+        max: usize,
+    },
 }
 
 impl IgesError {
@@ -106,7 +131,9 @@ impl IgesError {
             | IgesError::Parameter { line, .. }
             | IgesError::Unsupported { line, .. }
             | IgesError::Geometry { line, .. }
-            | IgesError::UnboundedPlane { line, .. } => Some(*line),
+            | IgesError::UnboundedPlane { line, .. }
+            | IgesError::ReferenceCycle { line, .. }
+            | IgesError::NestingTooDeep { line, .. } => Some(*line),
         }
     }
 }
@@ -188,6 +215,79 @@ impl IgesModel {
             next = e.transform;
         }
         acc
+    }
+
+    /// Checks that the entities' references (composite members, trimmed surfaces' surfaces
+    /// and boundaries, curves on surfaces, revolutions' axis and generatrix, ...) form no
+    /// cycle and nest at most [`MAX_NESTING`] deep, so that converting them terminates with
+    /// a bounded stack. Depth-first with an explicit stack: a file cannot drive it into a
+    /// stack overflow. References to missing DEs are left to the conversion's errors.
+    pub fn check_references(&self) -> Result<(), IgesError> {
+        const NEW: u8 = 0;
+        const OPEN: u8 = 1;
+        const DONE: u8 = 2;
+        let index = |de: u32| -> Option<usize> { self.entity(de).map(|_| (de as usize - 1) / 2) };
+        let children: Vec<Vec<usize>> = self
+            .entities
+            .iter()
+            .map(|e| e.kind.references().into_iter().filter_map(index).collect())
+            .collect();
+        let mut state = vec![NEW; self.entities.len()];
+        let mut depth = vec![0usize; self.entities.len()];
+        for root in 0..self.entities.len() {
+            if state[root] != NEW {
+                continue;
+            }
+            // (entity, next child to visit)
+            let mut stack: Vec<(usize, usize)> = vec![(root, 0)];
+            state[root] = OPEN;
+            while let Some(top) = stack.last_mut() {
+                let node = top.0;
+                if let Some(&child) = children[node].get(top.1) {
+                    top.1 += 1;
+                    match state[child] {
+                        NEW => {
+                            state[child] = OPEN;
+                            stack.push((child, 0));
+                        }
+                        OPEN => return Err(self.cycle_error(&stack, child)),
+                        _ => {}
+                    }
+                    continue;
+                }
+                let d = 1 + children[node].iter().map(|&c| depth[c]).max().unwrap_or(0);
+                if d > MAX_NESTING {
+                    let e = &self.entities[node];
+                    return Err(IgesError::NestingTooDeep {
+                        line: e.line,
+                        de: e.de,
+                        entity_type: e.type_number(),
+                        max: MAX_NESTING,
+                    });
+                }
+                depth[node] = d;
+                state[node] = DONE;
+                stack.pop();
+            }
+        }
+        Ok(())
+    }
+
+    /// The error for the cycle closed by a reference to `back` from the top of `stack`.
+    fn cycle_error(&self, stack: &[(usize, usize)], back: usize) -> IgesError {
+        let start = stack.iter().position(|&(n, _)| n == back).unwrap_or(0);
+        let mut des: Vec<String> = stack[start..]
+            .iter()
+            .map(|&(n, _)| self.entities[n].de.to_string())
+            .collect();
+        des.push(self.entities[back].de.to_string());
+        let e = &self.entities[back];
+        IgesError::ReferenceCycle {
+            line: e.line,
+            de: e.de,
+            entity_type: e.type_number(),
+            cycle: des.join(" -> "),
+        }
     }
 
     /// Number of entities of each type.
@@ -371,3 +471,7 @@ fn validate(
 #[cfg(test)]
 #[path = "tests/mod_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "tests/cycles.rs"]
+mod cycle_tests;
