@@ -177,13 +177,36 @@ enum SampleArg {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    // Interrupted (Ctrl-C, kill, hang-up): no half-written `.out.vtu.tmp<pid>` is left.
+    let _ = ctrlc::set_handler(|| {
+        hocurve_io::remove_temporary_files();
+        eprintln!("hocurve: interrupted; no output written");
+        std::process::exit(130);
+    });
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("hocurve: error: {e:#}");
+            eprintln!("hocurve: error: {}", one_line(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// The error and its causes on one line, each text once: errors of our crates already
+/// print their source (an OS error's text), which anyhow's chain would repeat.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut text = String::new();
+    for cause in e.chain() {
+        let part = cause.to_string();
+        if text.contains(&part) {
+            continue;
+        }
+        if !text.is_empty() {
+            text.push_str(": ");
+        }
+        text.push_str(&part);
+    }
+    text.replace('\n', " ")
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -203,7 +226,7 @@ fn run(cli: Cli) -> Result<()> {
             let Some(out) = output.output.clone() else {
                 bail!("give the output file with -o OUT.vtu (or .msh)");
             };
-            check_output_path(&out)?;
+            check_outputs(&out, &output)?;
             let start = Instant::now();
             let linear = hocurve_io::read_msh(&mesh)?;
             let model = geometry.as_deref().map(read_geometry).transpose()?;
@@ -238,7 +261,7 @@ fn run(cli: Cli) -> Result<()> {
                 .output
                 .clone()
                 .unwrap_or_else(|| PathBuf::from(format!("{}_p{order}.vtu", name.name())));
-            check_output_path(&out)?;
+            check_outputs(&out, &output)?;
             let start = Instant::now();
             let linear = name.mesh()?;
             let (model, rule) = name.geometry()?;
@@ -329,7 +352,26 @@ impl MethodArgs {
     }
 }
 
-/// Fails early on an output path we could not write, before any work is done.
+/// Fails early on output paths we could not write (a missing or read-only folder), before
+/// any work is done: the mesh, the report, and the plots' folder (created if missing; its
+/// parent must exist).
+fn check_outputs(out: &Path, output: &OutputArgs) -> Result<()> {
+    check_output_path(out)?;
+    hocurve_io::check_writable(out)?;
+    if let Some(report) = &output.report {
+        hocurve_io::check_writable(report)?;
+    }
+    if let Some(dir) = &output.plots {
+        if dir.is_dir() {
+            hocurve_io::check_writable(&dir.join("scaled_jacobian.svg"))?;
+        } else {
+            hocurve_io::check_writable(dir)?;
+        }
+    }
+    Ok(())
+}
+
+/// Fails early on an output format we cannot write.
 fn check_output_path(path: &Path) -> Result<()> {
     let ext = path
         .extension()
@@ -392,6 +434,17 @@ fn finish(
     display.spin("writing the mesh".into());
     let t = Instant::now();
     write_curved(out, &curved)?;
+    // The mesh is in place: a failure from here on removes it again, so that a run leaves
+    // all its outputs or none.
+    let written = |result: Result<()>| {
+        if result.is_err() {
+            let _ = std::fs::remove_file(out);
+            if let Some(report) = &output.report {
+                let _ = std::fs::remove_file(report);
+            }
+        }
+        result
+    };
     curved.report.timings.write = t.elapsed().as_secs_f64();
     curved.report.timings.read = read_seconds;
     curved.report.timings.total = read_seconds + start.elapsed().as_secs_f64();
@@ -406,18 +459,10 @@ fn finish(
         );
     }
     if let Some(path) = &output.report {
-        let json = serde_json::to_string_pretty(&curved.report)?;
-        hocurve_io::write_atomically(path, |w| {
-            w.write_all(json.as_bytes())
-                .and_then(|()| w.write_all(b"\n"))
-                .map_err(|source| hocurve_io::IoError::Os {
-                    path: path.to_path_buf(),
-                    source,
-                })
-        })?;
+        written(write_report(path, &curved))?;
     }
     if let Some(dir) = &output.plots {
-        write_plots(dir, &curved.quality.summary)?;
+        written(write_plots(dir, &curved.quality.summary))?;
     }
     if !failures.is_empty() {
         bail!("{}; written anyway (--allow-invalid)", failures);
@@ -506,6 +551,20 @@ fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified
         "the elastic solve".to_string()
     };
     Uncertified(named, step)
+}
+
+/// Writes the JSON report.
+fn write_report(path: &Path, curved: &CurvedMesh) -> Result<()> {
+    let json = serde_json::to_string_pretty(&curved.report)?;
+    hocurve_io::write_atomically(path, |w| {
+        w.write_all(json.as_bytes())
+            .and_then(|()| w.write_all(b"\n"))
+            .map_err(|source| hocurve_io::IoError::Os {
+                path: path.to_path_buf(),
+                source,
+            })
+    })?;
+    Ok(())
 }
 
 /// Writes the mesh with the displacement as point data and Ĩ and stretching as cell data.

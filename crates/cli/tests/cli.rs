@@ -199,3 +199,82 @@ fn uncertified_elements_fail_the_run_and_are_named() {
     assert!(stderr(&out).contains("written anyway"), "{}", stderr(&out));
     assert!(dir.path().join("out.vtu").exists());
 }
+
+/// Outputs whose folder is missing are refused before any work, with one line naming the
+/// folder once (not the OS text twice); nothing is written.
+#[test]
+fn missing_output_folders_fail_at_once_with_one_line() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let mesh = root.join("fixtures/cad/sphere_coarse.msh");
+    let geometry = root.join("fixtures/cad/sphere_coarse.json");
+    let dir = tempfile::tempdir().unwrap();
+    let (mesh, geometry) = (mesh.display().to_string(), geometry.display().to_string());
+    let base = ["curve", &mesh, "-p", "2", "--geometry", &geometry];
+    for extra in [
+        vec!["-o", "missing/out.vtu"],
+        vec!["-o", "out.vtu", "--report", "missing/report.json"],
+        vec!["-o", "out.vtu", "--plots", "missing/plots"],
+    ] {
+        let args: Vec<&str> = base.iter().copied().chain(extra.iter().copied()).collect();
+        let start = std::time::Instant::now();
+        let out = hocurve(&args, dir.path());
+        assert!(!out.status.success());
+        let err = stderr(&out);
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains("missing"), "{err}");
+        assert_eq!(err.matches("no such folder").count(), 1, "{err}");
+        assert!(stdout(&out).is_empty(), "work was done: {}", stdout(&out));
+        assert!(start.elapsed().as_secs_f64() < 5.0);
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    }
+    // A file that cannot be read: its OS error text appears once.
+    let out = hocurve(
+        &[
+            "curve",
+            "nothere.msh",
+            "-p",
+            "2",
+            "--straight",
+            "-o",
+            "x.vtu",
+        ],
+        dir.path(),
+    );
+    let err = stderr(&out);
+    assert_eq!(err.matches("No such file").count(), 1, "{err}");
+}
+
+/// SIGTERM in the middle of a run: exit code 130, no temporary or partial file left.
+#[cfg(unix)]
+#[test]
+fn a_terminated_run_leaves_no_file_behind() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = tempfile::tempdir().unwrap();
+    for delay_ms in [300, 900] {
+        let child = Command::new(env!("CARGO_BIN_EXE_hocurve"))
+            .args(["curve"])
+            .arg(root.join("fixtures/cad/sphere_occ.msh"))
+            .args(["-p", "4", "--geometry"])
+            .arg(root.join("fixtures/cad/sphere_occ.json"))
+            .args(["-o", "out.vtu"])
+            .current_dir(dir.path())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .expect("hocurve starts");
+        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
+        let killed = Command::new("kill")
+            .args(["-TERM", &child.id().to_string()])
+            .status()
+            .expect("kill runs");
+        let status = child.wait_with_output().expect("hocurve ends").status;
+        if killed.success() {
+            assert_eq!(status.code(), Some(130), "after {delay_ms} ms");
+        }
+        let left: Vec<_> = std::fs::read_dir(dir.path())
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .collect();
+        assert!(left.is_empty() || status.success(), "{left:?}");
+    }
+}
