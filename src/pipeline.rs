@@ -241,6 +241,8 @@ pub struct CurveReport {
     /// Interior edges split before curving (the input cells holding them had two facets on
     /// one curved entity, which curving would open to a 180° corner with det J = 0).
     pub edges_split: usize,
+    /// Tags of the input nodes no cell uses, left out of the curved mesh.
+    pub unused_node_tags: Vec<u64>,
     /// Nodes sliding in a plane (`--slide`).
     pub sliding_nodes: usize,
     /// Solver used: `direct`, `cg` or `none`.
@@ -283,9 +285,10 @@ pub struct CurvedMesh {
     pub quality: MeshQuality,
     /// The report.
     pub report: CurveReport,
-    /// The linear mesh that was curved, when it is not the input: some input cells had two
-    /// facets on one curved entity and their opposite edges were split (the cells of
-    /// [`CurvedMesh::mesh`] are those of this mesh, in its order).
+    /// The linear mesh that was curved, when it is not the input: nodes no cell uses were
+    /// left out, or some input cells had two facets on one curved entity and their opposite
+    /// edges were split (the cells and vertices of [`CurvedMesh::mesh`] are those of this
+    /// mesh, in its order).
     pub split_input: Option<LinearMesh>,
 }
 
@@ -307,8 +310,11 @@ pub fn curve_mesh(
     let start = Instant::now();
     let mut timings = StepTimings::default();
     let mut association = None;
+    // Vertices no cell uses would be unknowns without stiffness: left out (and reported).
+    let (pruned, unused_node_tags) = linear.without_unused_vertices();
+    let pruned_input = !unused_node_tags.is_empty();
+    let mut linear = if pruned_input { &pruned } else { linear };
     let split_input: LinearMesh;
-    let mut linear = linear;
     let mut split_edges = 0;
     if let Some(geometry) = geometry {
         progress(Progress::Step(Step::Association));
@@ -376,8 +382,11 @@ pub fn curve_mesh(
                 attempt.finish(options, association, quality, undone_corrections, timings);
             if split_edges > 0 {
                 curved.report.edges_split = split_edges;
+            }
+            if split_edges > 0 || pruned_input {
                 curved.split_input = Some(linear.clone());
             }
+            curved.report.unused_node_tags = unused_node_tags;
             return Ok(curved);
         }
         undone_corrections += 1;
@@ -614,6 +623,7 @@ impl Attempt {
             min_edge_angle_degrees: targets.min_edge_angle_degrees,
             corrections_undone: undone_corrections,
             edges_split: 0,
+            unused_node_tags: Vec::new(),
             sliding_nodes: self.sliding_nodes,
             solver: self.solve.0,
             iterations: self.solve.1,

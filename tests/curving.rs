@@ -246,6 +246,8 @@ fn quarter_annulus(n: usize) -> LinearMesh {
         entity_physicals: (1..=4)
             .map(|t| ((1, t), vec![t]))
             .collect::<BTreeMap<_, _>>(),
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
     }
 }
 

@@ -416,6 +416,16 @@ fn finish(
     let display = ProgressDisplay::new();
     let mut curved = curve_mesh(linear, geometry, options, &mut |p| display.report(p))?;
     display.finish();
+    let unused = &curved.report.unused_node_tags;
+    if !unused.is_empty() {
+        let shown: Vec<String> = unused.iter().take(8).map(u64::to_string).collect();
+        eprintln!(
+            "hocurve: warning: {} node(s) belong to no cell and are left out of the output (node tags {}{})",
+            unused.len(),
+            shown.join(", "),
+            if unused.len() > shown.len() { ", …" } else { "" }
+        );
+    }
     let failures = uncertified_elements(linear, &curved);
     if options.certify && curved.report.certified_valid_elements.is_none() && !output.allow_invalid
     {

@@ -278,3 +278,56 @@ fn a_terminated_run_leaves_no_file_behind() {
         assert!(left.is_empty() || status.success(), "{left:?}");
     }
 }
+
+/// A node that no cell uses (a stray point in the file) is left out with a warning naming
+/// its tag; the run succeeds (it used to end in a singular elastic system).
+#[test]
+fn nodes_of_no_cell_are_left_out_with_a_warning() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let text = std::fs::read_to_string(root.join("fixtures/formats/square_v22_ascii.msh"))
+        .expect("the fixture");
+    // One more node, tag 777, used by nothing.
+    let start = text.find("$Nodes\n").expect("$Nodes") + "$Nodes\n".len();
+    let count_end = start + text[start..].find('\n').expect("a count");
+    let count: usize = text[start..count_end].trim().parse().expect("a count");
+    let end = text.find("$EndNodes").expect("$EndNodes");
+    let edited = format!(
+        "{}{}{}777 5 5 0\n{}",
+        &text[..start],
+        count + 1,
+        &text[count_end..end],
+        &text[end..]
+    );
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("stray.msh"), edited).unwrap();
+    std::fs::write(
+        dir.path().join("top.json"),
+        r#"{"entities":[{"name":"top","kind":"nurbs_curve","degree":2,"knots":[0,0,0,1,1,1],"control_points":[[0,1],[0.5,1.1],[1,1]]}]}"#,
+    )
+    .unwrap();
+    let out = hocurve(
+        &[
+            "curve",
+            "stray.msh",
+            "-p",
+            "3",
+            "--geometry",
+            "top.json",
+            "--geometry-tolerance",
+            "0.1",
+            "-o",
+            "out.vtu",
+            "--report",
+            "report.json",
+        ],
+        dir.path(),
+    );
+    assert!(out.status.success(), "{}", stderr(&out));
+    let err = stderr(&out);
+    assert!(err.contains("1 node(s) belong to no cell"), "{err}");
+    assert!(err.contains("777"), "{err}");
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["unused_node_tags"], serde_json::json!([777]));
+}

@@ -212,6 +212,8 @@ pub fn associate_boundary(
                 if d > tolerance {
                     return Err(GeodesicError::VertexOffGeometry {
                         vertex: *v,
+                        tag: mesh.vertex_tag(*v as usize),
+                        position: x,
                         entity: geometry.entities[e].name.clone(),
                         distance: d,
                         tolerance,

@@ -29,9 +29,14 @@ pub enum GeodesicError {
     #[error("geometry tolerance must be a finite length ≥ 0, got {0}")]
     Tolerance(f64),
     /// A vertex of a facet associated with an entity lies too far from it.
-    #[error("vertex {vertex} lies {distance:.3e} from geometry entity \"{entity}\", beyond the tolerance {tolerance:.3e} (is it the right geometry, in the mesh's units?)")]
+    #[error("node tag {tag} at ({:.6}, {:.6}, {:.6}) lies {distance:.3e} from geometry entity \"{entity}\", beyond the tolerance {tolerance:.3e} (is it the right geometry, in the mesh's units?)", position[0], position[1], position[2])]
     VertexOffGeometry {
+        /// The vertex (0-based index).
         vertex: u32,
+        /// Its tag in the file (Gmsh node tag).
+        tag: u64,
+        /// Where it is.
+        position: [f64; 3],
         entity: String,
         distance: f64,
         tolerance: f64,

@@ -499,6 +499,8 @@ struct Parser<'a> {
     high_order: bool,
     /// High-order reader: tag, place and order of each element of `by_dim`.
     element_records: [Vec<ElementRecord>; 4],
+    /// The file's tag of each element of `by_dim` (for messages).
+    element_tags: [Vec<u64>; 4],
 }
 
 /// Where an element was read and of which order (high-order reader).
@@ -542,6 +544,7 @@ impl<'a> Parser<'a> {
             dedup: None,
             high_order: false,
             element_records: Default::default(),
+            element_tags: Default::default(),
         }
     }
 
@@ -577,6 +580,9 @@ impl<'a> Parser<'a> {
         };
         if let Some(list) = self.by_dim.get_mut(dim) {
             list.push(element);
+            if let Some(tags) = self.element_tags.get_mut(dim) {
+                tags.push(u64::try_from(tag).unwrap_or(0));
+            }
             if self.high_order {
                 if let Some(records) = self.element_records.get_mut(dim) {
                     records.push(record);
@@ -1366,9 +1372,6 @@ impl<'a> Parser<'a> {
             NodeIndex::Sparse(m)
         };
         self.nodes = Some(index);
-        if !self.high_order {
-            self.node_tags = Vec::new();
-        }
         Ok(())
     }
 
@@ -1650,6 +1653,12 @@ impl<'a> Parser<'a> {
             facets,
             physical_groups: physical_groups(self.names, &self.entity_physicals),
             entity_physicals: self.entity_physicals,
+            vertex_tags: self.node_tags,
+            cell_tags: self
+                .element_tags
+                .get_mut(dim)
+                .map(std::mem::take)
+                .unwrap_or_default(),
         })
     }
 

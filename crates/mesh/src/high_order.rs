@@ -302,6 +302,8 @@ impl HighOrderMesh {
                 .collect::<Result<_, _>>()?,
             physical_groups: self.physical_groups.clone(),
             entity_physicals: self.entity_physicals.clone(),
+            vertex_tags: Vec::new(),
+            cell_tags: Vec::new(),
         };
         linear.validate()?;
         Self::straight_sided(&linear, order, self.family)

@@ -118,11 +118,15 @@ pub enum MeshError {
     },
     /// A cell with non-positive volume (or, in 2D, orientation opposite to the others).
     #[error(
-        "cell {index} is inverted or degenerate (signed Jacobian {jacobian:e} at vertex {vertex})"
+        "input element tag {tag} is inverted or degenerate (signed Jacobian {jacobian:e} at its vertex {vertex}, node tag {vertex_tag})"
     )]
     InvertedCell {
         /// Cell index.
         index: usize,
+        /// The cell's tag in the file (Gmsh element tag).
+        tag: u64,
+        /// The vertex's tag in the file (Gmsh node tag).
+        vertex_tag: u64,
         /// Local vertex where the Jacobian was measured.
         vertex: usize,
         /// Signed Jacobian determinant there.

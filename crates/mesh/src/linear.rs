@@ -43,6 +43,11 @@ pub struct LinearMesh {
     pub physical_groups: Vec<PhysicalGroup>,
     /// Physical tags of each geometric entity, keyed by (dim, entity tag).
     pub entity_physicals: BTreeMap<(usize, i32), Vec<i32>>,
+    /// The file's tag of each vertex (Gmsh node tags), for messages; empty: 1-based
+    /// positions.
+    pub vertex_tags: Vec<u64>,
+    /// The file's tag of each cell (Gmsh element tags); empty: 1-based positions.
+    pub cell_tags: Vec<u64>,
 }
 
 impl LinearMesh {
@@ -54,16 +59,69 @@ impl LinearMesh {
             .unwrap_or(&[])
     }
 
-    /// The file's tag of cell `index` (Gmsh element tag), for messages. Until the readers
-    /// keep tags this is the 1-based position, which equals Gmsh's tag for files with
-    /// contiguous element numbering.
+    /// The file's tag of cell `index` (Gmsh element tag), for messages: from
+    /// [`Self::cell_tags`], else the 1-based position.
     pub fn cell_tag(&self, index: usize) -> u64 {
-        index as u64 + 1
+        self.cell_tags
+            .get(index)
+            .copied()
+            .unwrap_or(index as u64 + 1)
     }
 
-    /// The file's tag of vertex `index` (Gmsh node tag), for messages; see [`Self::cell_tag`].
+    /// The file's tag of vertex `index` (Gmsh node tag), for messages; see
+    /// [`Self::cell_tag`].
     pub fn vertex_tag(&self, index: usize) -> u64 {
-        index as u64 + 1
+        self.vertex_tags
+            .get(index)
+            .copied()
+            .unwrap_or(index as u64 + 1)
+    }
+
+    /// The mesh without the vertices that no cell uses (a stray point, or the nodes of
+    /// entities saved without elements), renumbered, and the tags of those left out.
+    /// Unused vertices would get unknowns with no stiffness in the elastic solve.
+    pub fn without_unused_vertices(&self) -> (LinearMesh, Vec<u64>) {
+        let mut used = vec![false; self.vertices.len()];
+        for cell in &self.cells {
+            for &v in &cell.vertices {
+                if let Some(u) = used.get_mut(v as usize) {
+                    *u = true;
+                }
+            }
+        }
+        if used.iter().all(|&u| u) {
+            return (self.clone(), Vec::new());
+        }
+        let mut new_id = vec![u32::MAX; self.vertices.len()];
+        let mut mesh = LinearMesh {
+            vertices: Vec::new(),
+            vertex_tags: Vec::new(),
+            ..self.clone()
+        };
+        let mut unused = Vec::new();
+        for (v, &u) in used.iter().enumerate() {
+            if u {
+                new_id[v] = mesh.vertices.len() as u32;
+                mesh.vertices.push(self.vertices[v]);
+                if !self.vertex_tags.is_empty() {
+                    mesh.vertex_tags.push(self.vertex_tag(v));
+                }
+            } else {
+                unused.push(self.vertex_tag(v));
+            }
+        }
+        // Facets on unused vertices belong to no cell: they are dropped with them.
+        mesh.facets.retain(|f| {
+            f.vertices
+                .iter()
+                .all(|&v| used.get(v as usize) == Some(&true))
+        });
+        for e in mesh.cells.iter_mut().chain(mesh.facets.iter_mut()) {
+            for v in &mut e.vertices {
+                *v = new_id[*v as usize];
+            }
+        }
+        (mesh, unused)
     }
 
     /// The physical group with the given name, if any.
@@ -159,6 +217,8 @@ impl LinearMesh {
                 if jacobian * sign <= 0.0 || jacobian.is_nan() {
                     return Err(MeshError::InvertedCell {
                         index: c,
+                        tag: self.cell_tag(c),
+                        vertex_tag: self.vertex_tag(cell.vertices[vertex] as usize),
                         vertex,
                         jacobian,
                     });

@@ -13,7 +13,8 @@ impl LinearMesh {
     /// Splits each edge (a pair of vertex ids) at its midpoint: every triangle or
     /// tetrahedron holding both ends, cell or facet, becomes two with the new vertex in
     /// place of one end and of the other (orientation is kept: the new vertex lies on the
-    /// segment). The first half keeps the element's position, the second is appended.
+    /// segment). The first half keeps the element's position and tag, the second is appended
+    /// with a new tag past the largest (as is the new vertex).
     /// Edges held by a quadrilateral, hexahedron or prism cannot be split conformingly and
     /// are skipped, as are edges that no longer exist (split by an earlier pair). Returns the
     /// new mesh and the number of edges split.
@@ -37,6 +38,7 @@ impl LinearMesh {
             }
             let (pa, pb) = (mesh.vertices[a as usize], mesh.vertices[b as usize]);
             let m = mesh.vertices.len() as u32;
+            let cells_before = mesh.cells.len();
             mesh.vertices.push([
                 0.5 * (pa[0] + pb[0]),
                 0.5 * (pa[1] + pb[1]),
@@ -59,6 +61,18 @@ impl LinearMesh {
                     second.push(other);
                 }
                 list.extend(second);
+            }
+            // New vertices and cells get tags past the file's largest.
+            if !mesh.vertex_tags.is_empty() {
+                let next = mesh.vertex_tags.iter().max().map_or(1, |t| t + 1);
+                mesh.vertex_tags.push(next);
+            }
+            if !mesh.cell_tags.is_empty() {
+                let mut next = mesh.cell_tags.iter().max().map_or(1, |t| t + 1);
+                for _ in cells_before..mesh.cells.len() {
+                    mesh.cell_tags.push(next);
+                    next += 1;
+                }
             }
             split += 1;
         }

@@ -214,6 +214,8 @@ fn thin_pair() -> (LinearMesh, [u32; 4]) {
             name: "sphere".into(),
         }],
         entity_physicals,
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
     };
     (mesh, [0, 1, 2, 3])
 }

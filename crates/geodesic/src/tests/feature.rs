@@ -119,6 +119,8 @@ fn can(n: usize, slope: f64) -> LinearMesh {
             },
         ],
         entity_physicals,
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
     }
 }
 

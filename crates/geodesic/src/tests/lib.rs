@@ -100,7 +100,7 @@ fn a_named_entity_that_misses_the_vertices_is_an_error_naming_the_vertex() {
         }
         other => panic!("{other:?}"),
     }
-    assert!(err.to_string().contains("vertex"));
+    assert!(err.to_string().contains("node tag"), "{err}");
     // The same with a generous tolerance moves them.
     let a = associate_boundary(
         &mesh,
@@ -315,6 +315,8 @@ mod placement {
                 name: "sphere".into(),
             }],
             entity_physicals,
+            vertex_tags: Vec::new(),
+            cell_tags: Vec::new(),
         }
     }
 

@@ -846,3 +846,17 @@ fn million_tets_timing() {
         t.elapsed()
     );
 }
+
+/// The file's node and element tags are kept for messages (sparse, unordered tags).
+#[test]
+fn node_and_element_tags_are_kept() {
+    for text in [MSH41, MSH22] {
+        let m = parse(text).unwrap();
+        assert_eq!(m.vertex_tags, vec![40, 10, 30, 20]);
+        assert_eq!(m.cell_tags, vec![100, 7]);
+        assert_eq!(m.cell_tag(1), 7);
+        assert_eq!(m.vertex_tag(0), 40);
+    }
+    let m = parse(&MSH41.replace("40", "5000000000040")).unwrap();
+    assert_eq!(m.vertex_tag(0), 5000000000040);
+}

@@ -94,3 +94,48 @@ fn two_d_meshes_must_be_consistently_oriented() {
         "{err}"
     );
 }
+
+#[test]
+fn unused_vertices_are_left_out_and_the_rest_renumbered() {
+    let mesh = LinearMesh {
+        dim: 2,
+        vertices: vec![
+            [9.0, 9.0, 0.0],
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [7.0, 7.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ],
+        cells: vec![Element {
+            kind: ElementType::Tri,
+            vertices: vec![1, 2, 4],
+            entity: 1,
+        }],
+        facets: vec![
+            Element {
+                kind: ElementType::Line,
+                vertices: vec![1, 2],
+                entity: 2,
+            },
+            Element {
+                kind: ElementType::Line,
+                vertices: vec![0, 3],
+                entity: 3,
+            },
+        ],
+        vertex_tags: vec![10, 20, 30, 40, 50],
+        ..Default::default()
+    };
+    let (pruned, unused) = mesh.without_unused_vertices();
+    assert_eq!(unused, vec![10, 40]);
+    assert_eq!(pruned.vertices.len(), 3);
+    assert_eq!(pruned.vertex_tags, vec![20, 30, 50]);
+    assert_eq!(pruned.cells[0].vertices, vec![0, 1, 2]);
+    assert_eq!(pruned.facets.len(), 1);
+    assert_eq!(pruned.facets[0].vertices, vec![0, 1]);
+    assert!(pruned.validate().is_ok());
+    // Nothing to leave out: the same mesh.
+    let (same, none) = pruned.without_unused_vertices();
+    assert!(none.is_empty());
+    assert_eq!(same, pruned);
+}
