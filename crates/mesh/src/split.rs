@@ -68,11 +68,9 @@ impl LinearMesh {
                 mesh.vertex_tags.push(next);
             }
             if !mesh.cell_tags.is_empty() {
-                let mut next = mesh.cell_tags.iter().max().map_or(1, |t| t + 1);
-                for _ in cells_before..mesh.cells.len() {
-                    mesh.cell_tags.push(next);
-                    next += 1;
-                }
+                let next = mesh.cell_tags.iter().max().map_or(1, |t| t + 1);
+                let added = (mesh.cells.len() - cells_before) as u64;
+                mesh.cell_tags.extend(next..next + added);
             }
             split += 1;
         }
