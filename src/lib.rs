@@ -8,6 +8,7 @@
 
 pub mod demo;
 pub mod interpolation;
+pub mod memory;
 pub mod pipeline;
 
 pub use hocurve_elastic as elastic;

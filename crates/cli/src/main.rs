@@ -138,6 +138,9 @@ struct MethodArgs {
     /// the sampled scaled Jacobian alone can miss det J < 0 near a vertex or face.
     #[arg(long)]
     no_certify: bool,
+    /// Run even when the estimated peak memory exceeds this machine's memory.
+    #[arg(long)]
+    ignore_memory_estimate: bool,
 }
 
 /// Where results go (shared by `curve` and `demo`).
@@ -248,7 +251,15 @@ fn run(cli: Cli) -> Result<()> {
                 linear.cells.len(),
                 options.family
             );
-            finish(&linear, geometry, &options, read, &out, &output)
+            finish(
+                &linear,
+                geometry,
+                &options,
+                method.ignore_memory_estimate,
+                read,
+                &out,
+                &output,
+            )
         }
         Command::Demo {
             name,
@@ -279,7 +290,15 @@ fn run(cli: Cli) -> Result<()> {
                 model: &model,
                 rule,
             };
-            finish(&linear, Some(geometry), &options, read, &out, &output)
+            finish(
+                &linear,
+                Some(geometry),
+                &options,
+                method.ignore_memory_estimate,
+                read,
+                &out,
+                &output,
+            )
         }
         Command::Quality {
             mesh,
@@ -386,15 +405,35 @@ fn check_output_path(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Refuses an order whose estimated peak memory exceeds the machine's (unless `ignore`).
+fn check_memory(linear: &LinearMesh, order: usize, ignore: bool) -> Result<()> {
+    let (Some(total), false) = (hocurve::memory::machine_memory(), ignore) else {
+        return Ok(());
+    };
+    let estimate = hocurve::memory::estimate(linear, order)?;
+    if estimate.peak_bytes > total {
+        bail!(
+            "order {order} needs about {:.1} GB ({} nodes, {} unknowns) and this machine has {:.1} GB: use a lower order or a smaller mesh (--ignore-memory-estimate runs anyway)",
+            estimate.peak_bytes / 1e9,
+            estimate.nodes,
+            estimate.unknowns,
+            total / 1e9
+        );
+    }
+    Ok(())
+}
+
 /// Curves, writes the mesh, the report and the plots, and prints the summary table.
 fn finish(
     linear: &LinearMesh,
     geometry: Option<Geometry>,
     options: &CurveOptions,
+    ignore_memory: bool,
     read_seconds: f64,
     out: &Path,
     output: &OutputArgs,
 ) -> Result<()> {
+    check_memory(linear, options.order, ignore_memory)?;
     let tensor_cells = linear.cells.iter().any(|c| {
         !matches!(
             c.kind,

@@ -331,3 +331,18 @@ fn nodes_of_no_cell_are_left_out_with_a_warning() {
             .unwrap();
     assert_eq!(report["unused_node_tags"], serde_json::json!([777]));
 }
+
+/// An order the machine cannot hold is refused up front, with the estimate.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_order_beyond_the_machine_is_refused_with_its_estimate() {
+    let dir = tempfile::tempdir().unwrap();
+    let start = std::time::Instant::now();
+    let out = hocurve(&["demo", "sphere", "-p", "20", "-o", "big.vtu"], dir.path());
+    assert!(!out.status.success());
+    let err = stderr(&out);
+    assert!(err.contains("order 20 needs about"), "{err}");
+    assert!(err.contains("GB"), "{err}");
+    assert!(start.elapsed().as_secs_f64() < 20.0);
+    assert!(!dir.path().join("big.vtu").exists());
+}

@@ -1,0 +1,113 @@
+//! What a curving run will need, before it runs: the node count of the order-p mesh and an
+//! estimate of the peak memory, so that an order the machine cannot hold is refused at once
+//! rather than after minutes of work.
+
+use hocurve_mesh::{LinearMesh, MeshError, Topology};
+use hocurve_nodes::Shape;
+
+/// Bytes per unknown per node of an element, measured (release, 2 threads) on 19 k
+/// boundary-layer tetrahedra: 958 MB peak at p = 3 (252 k unknowns, 20 nodes per element:
+/// 190 bytes), 3.42 GB at p = 4 (602 k unknowns, 35 nodes: 162 bytes); the stiffness rows
+/// grow with the nodes an unknown shares elements with, the p-multigrid levels follow.
+pub const BYTES_PER_UNKNOWN_AND_ELEMENT_NODE: f64 = 190.0;
+
+/// The size of the order-`order` mesh of `linear` and its estimated peak memory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Estimate {
+    /// Nodes of the order-p mesh: V + E(p−1) + faces' and cells' interior nodes.
+    pub nodes: u64,
+    /// Unknowns of the elastic system (dim × nodes, before the boundary is condensed out).
+    pub unknowns: u64,
+    /// Estimated peak memory in bytes: unknowns × (largest nodes per element) ×
+    /// [`BYTES_PER_UNKNOWN_AND_ELEMENT_NODE`].
+    pub peak_bytes: f64,
+}
+
+/// Interior nodes of an order-`p` element of `shape` (none on its boundary).
+fn interior_nodes(shape: Shape, p: u64) -> u64 {
+    let q = p.saturating_sub(1);
+    match shape {
+        Shape::Line => q,
+        Shape::Tri => q * q.saturating_sub(1) / 2,
+        Shape::Quad => q * q,
+        Shape::Tet => q * q.saturating_sub(1) * q.saturating_sub(2) / 6,
+        Shape::Hex => q * q * q,
+        Shape::Prism => q * q.saturating_sub(1) / 2 * q,
+    }
+}
+
+/// All nodes of an order-`p` element of `shape`.
+fn element_nodes(shape: Shape, p: u64) -> u64 {
+    match shape {
+        Shape::Line => p + 1,
+        Shape::Tri => (p + 1) * (p + 2) / 2,
+        Shape::Quad => (p + 1) * (p + 1),
+        Shape::Tet => (p + 1) * (p + 2) * (p + 3) / 6,
+        Shape::Hex => (p + 1) * (p + 1) * (p + 1),
+        Shape::Prism => (p + 1) * (p + 2) / 2 * (p + 1),
+    }
+}
+
+/// Counts the nodes of the order-`order` mesh of `linear` from its topology (without
+/// building it) and estimates the peak memory of curving it.
+pub fn estimate(linear: &LinearMesh, order: usize) -> Result<Estimate, MeshError> {
+    let topology = Topology::new(linear)?;
+    let p = order as u64;
+    let mut nodes =
+        linear.vertices.len() as u64 + topology.edges.len() as u64 * p.saturating_sub(1);
+    for face in topology.faces.rows() {
+        let shape = if face.len() == 4 {
+            Shape::Quad
+        } else {
+            Shape::Tri
+        };
+        nodes += interior_nodes(shape, p);
+    }
+    let mut largest = 0;
+    for cell in &linear.cells {
+        let shape = cell.kind.shape()?;
+        nodes += interior_nodes(shape, p);
+        largest = largest.max(element_nodes(shape, p));
+    }
+    let unknowns = linear.dim as u64 * nodes;
+    Ok(Estimate {
+        nodes,
+        unknowns,
+        peak_bytes: unknowns as f64 * largest as f64 * BYTES_PER_UNKNOWN_AND_ELEMENT_NODE,
+    })
+}
+
+/// This machine's memory in bytes (`MemTotal` of /proc/meminfo), if it can be read.
+pub fn machine_memory() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemTotal:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_mesh::HighOrderMesh;
+    use hocurve_nodes::NodeFamily;
+
+    #[test]
+    fn node_counts_equal_those_of_the_built_mesh() {
+        let linear = crate::demo::Demo::Sphere
+            .mesh()
+            .expect("the bundled sphere");
+        for p in 1..=5 {
+            let built = HighOrderMesh::from_linear(&linear, p, NodeFamily::Equispaced)
+                .expect("order-p mesh");
+            let e = estimate(&linear, p).expect("estimate");
+            assert_eq!(e.nodes, built.nodes.len() as u64, "p = {p}");
+            assert_eq!(e.unknowns, 3 * e.nodes);
+        }
+        let naca = crate::demo::Demo::Naca0012
+            .mesh()
+            .expect("the bundled airfoil");
+        let built = HighOrderMesh::from_linear(&naca, 5, NodeFamily::Equispaced).unwrap();
+        // The paper's count for its own mesh is V + E(p−1) + F(p−1)(p−2)/2; ours too.
+        assert_eq!(estimate(&naca, 5).unwrap().nodes, built.nodes.len() as u64);
+    }
+}
