@@ -43,6 +43,11 @@
 //!   the surface normal, by O(L²κ). Other points of the edge (used by the face-interior
 //!   construction of Eqs. (6)–(7)) are Π_S(C(f)) for the fraction f.
 //!
+//! - **Where it applies.** Only at vertices inside one smooth surface: a vertex on a feature
+//!   curve or corner (on two entities or more) has no single tangent plane, so angles there
+//!   are neither measured nor corrected. The curving pipeline then keeps a correction only
+//!   if no element touching it comes out invalid.
+//!
 //! Orders the paper leaves open: p = 2 — no correction (a quadratic through two points has a
 //! single free vector, it cannot take a tangent at both ends; small angles are still
 //! counted); p ≥ 6 — the quintic of p = 5 ("extra conditions can be devised … but these are
@@ -197,6 +202,10 @@ pub(crate) struct EdgeEnd {
     pub(crate) tangent: [f64; 3],
     /// The neighbouring edges there.
     pub(crate) neighbours: Vec<Neighbour>,
+    /// Whether the vertex lies inside one smooth surface. A vertex on a feature curve or
+    /// corner (on two entities or more) has no single tangent plane: its angles are neither
+    /// measured nor corrected.
+    pub(crate) smooth: bool,
 }
 
 /// The outcome of checking one edge.
@@ -283,7 +292,11 @@ pub(crate) fn check_edge(
         let n = frame.normal;
         let t = unit(reject(end.tangent, n))?;
         let chord = reject(sub(ends[1 - i].point, end.point), n);
-        let (min_angle, psi) = vertex_turn(t, n, chord, end.point, &end.neighbours, limit);
+        let (min_angle, psi) = if end.smooth {
+            vertex_turn(t, n, chord, end.point, &end.neighbours, limit)
+        } else {
+            (f64::INFINITY, 0.0)
+        };
         turned[i] = rotate(t, n, psi);
         min_angles[i] = min_angle;
         frames.push(frame);

@@ -566,6 +566,7 @@ pub(crate) fn check_edge_angles(
             },
             tangent,
             neighbours: list,
+            smooth: !matches!(association.vertex_entities.get(&v), Some(e) if e.len() > 1),
         });
     }
     let ends: [EdgeEnd; 2] = ends

@@ -349,3 +349,63 @@ fn a_thin_spherical_triangle_gets_its_small_angle_opened_to_the_limit() {
         }
     }
 }
+
+/// An edge end on a feature curve (a vertex on two entities) has no single tangent plane:
+/// its angles are neither measured nor corrected, while the same end inside the surface is.
+#[test]
+fn ends_on_feature_curves_are_neither_measured_nor_corrected() {
+    let model = sphere_model("sphere", 1.0);
+    let hocurve_nurbs::EntityGeometry::Surface(surface) = &model.entities[0].geometry else {
+        panic!("the sphere is a surface");
+    };
+    let chart = crate::chart::SurfaceChart::new(surface);
+    let on_sphere = |theta: f64, phi: f64| {
+        [
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        ]
+    };
+    let (a, b) = (on_sphere(1.2, 0.0), on_sphere(1.2, 0.3));
+    let end = |point: [f64; 3], towards: [f64; 3], neighbours: Vec<Neighbour>, smooth| {
+        let tangent = crate::vector::unit(crate::vector::reject(
+            crate::vector::sub(towards, point),
+            point,
+        ))
+        .expect("a tangent");
+        EdgeEnd {
+            vertex: 0,
+            point,
+            param: chart.project_near(point, [0.1, 0.5]).0,
+            tangent,
+            neighbours,
+            smooth,
+        }
+    };
+    // At a, a neighbour 2° off the edge: below the 10° limit.
+    let t_a = end(a, b, Vec::new(), true).tangent;
+    let n_a = a;
+    let close = crate::vector::add(
+        crate::vector::scale(t_a, 2f64.to_radians().cos()),
+        crate::vector::scale(crate::vector::cross(n_a, t_a), 2f64.to_radians().sin()),
+    );
+    let neighbour = Neighbour {
+        tangent: close,
+        far_vertex: crate::vector::add(a, crate::vector::scale(close, 0.3)),
+        correctable: false,
+    };
+    let limit = 10f64.to_radians();
+    for (smooth, corrected) in [(true, true), (false, false)] {
+        let ends = [
+            end(a, b, vec![neighbour], smooth),
+            end(b, a, Vec::new(), true),
+        ];
+        let check = check_edge(&chart, &ends, 0.3, 3, limit).expect("tangent planes");
+        assert_eq!(check.curve.is_some(), corrected, "smooth {smooth}");
+        if smooth {
+            assert!((check.min_angle.to_degrees() - 2.0).abs() < 1e-6);
+        } else {
+            assert!(check.min_angle.is_infinite());
+        }
+    }
+}
