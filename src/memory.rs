@@ -23,51 +23,25 @@ pub struct Estimate {
     pub peak_bytes: f64,
 }
 
-/// Interior nodes of an order-`p` element of `shape` (none on its boundary).
-fn interior_nodes(shape: Shape, p: u64) -> u64 {
-    let q = p.saturating_sub(1);
-    match shape {
-        Shape::Line => q,
-        Shape::Tri => q * q.saturating_sub(1) / 2,
-        Shape::Quad => q * q,
-        Shape::Tet => q * q.saturating_sub(1) * q.saturating_sub(2) / 6,
-        Shape::Hex => q * q * q,
-        Shape::Prism => q * q.saturating_sub(1) / 2 * q,
-    }
-}
-
-/// All nodes of an order-`p` element of `shape`.
-fn element_nodes(shape: Shape, p: u64) -> u64 {
-    match shape {
-        Shape::Line => p + 1,
-        Shape::Tri => (p + 1) * (p + 2) / 2,
-        Shape::Quad => (p + 1) * (p + 1),
-        Shape::Tet => (p + 1) * (p + 2) * (p + 3) / 6,
-        Shape::Hex => (p + 1) * (p + 1) * (p + 1),
-        Shape::Prism => (p + 1) * (p + 2) / 2 * (p + 1),
-    }
-}
-
 /// Counts the nodes of the order-`order` mesh of `linear` from its topology (without
 /// building it) and estimates the peak memory of curving it.
 pub fn estimate(linear: &LinearMesh, order: usize) -> Result<Estimate, MeshError> {
     let topology = Topology::new(linear)?;
-    let p = order as u64;
-    let mut nodes =
-        linear.vertices.len() as u64 + topology.edges.len() as u64 * p.saturating_sub(1);
+    let mut nodes = linear.vertices.len() as u64
+        + topology.edges.len() as u64 * Shape::Line.num_interior_nodes(order) as u64;
     for face in topology.faces.rows() {
         let shape = if face.len() == 4 {
             Shape::Quad
         } else {
             Shape::Tri
         };
-        nodes += interior_nodes(shape, p);
+        nodes += shape.num_interior_nodes(order) as u64;
     }
     let mut largest = 0;
     for cell in &linear.cells {
         let shape = cell.kind.shape()?;
-        nodes += interior_nodes(shape, p);
-        largest = largest.max(element_nodes(shape, p));
+        nodes += shape.num_interior_nodes(order) as u64;
+        largest = largest.max(shape.num_nodes(order) as u64);
     }
     let unknowns = linear.dim as u64 * nodes;
     Ok(Estimate {
