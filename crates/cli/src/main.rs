@@ -440,7 +440,11 @@ fn finish(
             hocurve_mesh::ElementType::Tri | hocurve_mesh::ElementType::Tet
         )
     });
-    if options.certify
+    // Straight-sided elements are the input's own map at a higher order: only curved
+    // meshes need the check to be run before they are trusted.
+    let curved_run = geometry.is_some();
+    if curved_run
+        && options.certify
         && tensor_cells
         && options.order > hocurve::pipeline::CERTIFY_MAX_ORDER
         && !output.allow_invalid
@@ -466,7 +470,10 @@ fn finish(
         );
     }
     let failures = uncertified_elements(linear, &curved);
-    if options.certify && curved.report.certified_valid_elements.is_none() && !output.allow_invalid
+    if curved_run
+        && options.certify
+        && curved.report.certified_valid_elements.is_none()
+        && !output.allow_invalid
     {
         bail!(
             "validity not certified: the Bézier check does not run on quadrilaterals, hexahedra or prisms above order {} (too slow for now); nothing written (--no-certify writes the mesh uncertified)",
