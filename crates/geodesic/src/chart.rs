@@ -42,6 +42,12 @@ impl<'a> SurfaceChart<'a> {
         out
     }
 
+    /// The range of parameter `d` (0: u, 1: v) when it is not periodic; `None` for a
+    /// closed direction, which has no end.
+    pub fn bounded_range(&self, d: usize) -> Option<(f64, f64)> {
+        (!self.periodic[d]).then_some(self.domain[d])
+    }
+
     /// The surface point at an (unrolled) parameter.
     pub fn point(&self, uv: [f64; 2]) -> [f64; 3] {
         let [u, v] = self.fold(uv);

@@ -200,6 +200,20 @@ fn bisector_minimum(
         let scale = chord_length / len;
         direction = [perpendicular[0] * scale, perpendicular[1] * scale];
     }
+    // The bisector stays inside the domain: clamped onto a bounded edge (a pole), it would
+    // reach the segment's own end when that end is the pole, where the sum of distances
+    // is the chord itself, and every refinement would collapse onto the pole.
+    let (mut lo, mut hi) = (-0.5_f64, 0.5_f64);
+    for d in 0..2 {
+        if let (Some((p0, p1)), true) = (chart.bounded_range(d), direction[d] != 0.0) {
+            let (ta, tb) = ((p0 - mid[d]) / direction[d], (p1 - mid[d]) / direction[d]);
+            lo = lo.max(ta.min(tb));
+            hi = hi.min(ta.max(tb));
+        }
+    }
+    if lo >= hi {
+        (lo, hi) = (0.0, 0.0);
+    }
     let at = |t: f64| [mid[0] + t * direction[0], mid[1] + t * direction[1]];
     let cost = |t: f64| {
         let x = chart.point(at(t));
@@ -221,10 +235,13 @@ fn bisector_minimum(
         dot([ea[0] + eb[0], ea[1] + eb[1], ea[2] + eb[2]], tangent)
     };
     // The root is usually bracketed by the whole bisector; Brent's minimum is the fallback.
-    let t = if slope(-0.5) < 0.0 && slope(0.5) > 0.0 {
-        polish_root(slope, 0.0, 0.5)
+    let t = if lo == hi {
+        0.0
+    } else if slope(lo) < 0.0 && slope(hi) > 0.0 {
+        polish_root(slope, 0.5 * (lo + hi), 0.5 * (hi - lo))
     } else {
-        polish_root(slope, brent_minimum(cost, -0.5, 0.5, 1e-8), 1e-6)
+        let t = brent_minimum(cost, lo, hi, 1e-8);
+        polish_root(slope, t, 1e-6).clamp(lo, hi)
     };
     let uv = at(t);
     (uv, chart.point(uv))

@@ -96,3 +96,118 @@ fn a_path_from_a_pole_leaves_along_the_meridian_of_its_other_end() {
         assert!(cosine > 1.0 - 1e-6, "tangent {t:?} vs meridian {h:?}");
     }
 }
+
+/// OpenCASCADE's sphere read from IGES: its poles are the ends of a bounded v range
+/// (−π/2, π/2). A bisector clamped onto the pole used to make every refinement of a path
+/// from the pole collapse onto the pole, leaving one long chord; the path must instead be
+/// the great-circle arc, point for point.
+#[test]
+fn a_path_from_a_pole_at_the_end_of_a_bounded_range_is_the_great_circle() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let model =
+        hocurve_nurbs::iges::read_iges_geometry(&root.join("fixtures/cad/sphere_coarse.igs"))
+            .expect("the OCC sphere-in-box IGES");
+    let sphere = model
+        .entities
+        .iter()
+        .find_map(|e| match &e.geometry {
+            EntityGeometry::Surface(s) if s.degenerate_edges().iter().any(|&d| d) => Some(s),
+            _ => None,
+        })
+        .expect("the sphere has poles");
+    let chart = SurfaceChart::new(sphere);
+    let target = {
+        let (theta, phi) = (0.9_f64, 0.7_f64);
+        [
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            theta.cos(),
+        ]
+    };
+    for pole in [[0.0, 0.0, 1.0], [0.0, 0.0, -1.0]] {
+        let a = param_of(&chart, pole);
+        let b = param_of(&chart, target);
+        let path = GeodesicPath::between(&chart, a, b, 1e-10);
+        let exact = dot(pole, target).clamp(-1.0, 1.0).acos();
+        // IGES carries 10 digits.
+        assert!(
+            (path.length() - exact).abs() < 1e-6,
+            "{} vs {exact}",
+            path.length()
+        );
+        // Every point on the great circle through the pole and the target.
+        let normal = {
+            let c = [
+                pole[1] * target[2] - pole[2] * target[1],
+                pole[2] * target[0] - pole[0] * target[2],
+                pole[0] * target[1] - pole[1] * target[0],
+            ];
+            let n = norm(c);
+            [c[0] / n, c[1] / n, c[2] / n]
+        };
+        for x in &path.points {
+            assert!(dot(*x, normal).abs() < 1e-6, "{x:?} off the great circle");
+        }
+        // No collapse (it was one chord of the whole length). The polyline still
+        // clusters towards the pole (longest chord: 25 % of the path), which arc-length
+        // placement tolerates on the sphere; evening it out is left to do.
+        let longest = path
+            .lengths
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(0.0, f64::max);
+        assert!(longest < 0.3 * exact, "a chord of {longest} in {exact}");
+    }
+}
+
+/// The OpenCASCADE ellipsoid of the wing-body fixture (a sphere dilated by (2, 0.5, 0.5),
+/// a rational B-spline in IGES, poles at (0, 0, ±0.5) ending the bounded v range): a path
+/// from the pole used to collapse onto it (255 of 257 points at the pole, then one chord),
+/// placing a p = 3 edge's two nodes both near its middle and inverting its tetrahedra.
+#[test]
+fn a_path_from_the_pole_of_a_b_spline_ellipsoid_does_not_collapse_onto_the_pole() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let model = hocurve_nurbs::iges::read_iges_geometry(&root.join("fixtures/cad/wing_body.igs"))
+        .expect("the wing-body IGES");
+    let ellipsoid = model
+        .entities
+        .iter()
+        .find_map(|e| match &e.geometry {
+            EntityGeometry::Surface(s) if s.degenerate_edges().iter().any(|&d| d) => Some(s),
+            _ => None,
+        })
+        .expect("the ellipsoid has poles");
+    let chart = SurfaceChart::new(ellipsoid);
+    let (pole, other) = ([0.0, 0.0, 0.5], [0.6749, 0.21414, 0.41914]);
+    let path = GeodesicPath::between(
+        &chart,
+        param_of(&chart, pole),
+        param_of(&chart, other),
+        1e-10,
+    );
+    let chord = ((other[0] - pole[0]).powi(2)
+        + (other[1] - pole[1]).powi(2)
+        + (other[2] - pole[2]).powi(2))
+    .sqrt();
+    let longest = path
+        .lengths
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .fold(0.0, f64::max);
+    assert!(
+        longest < 0.5 * path.length(),
+        "a chord of {longest} in {}",
+        path.length()
+    );
+    // Longer than the chord, shorter than the collapsed path's 0.72398.
+    assert!(
+        path.length() > chord && path.length() < 0.7235,
+        "{}",
+        path.length()
+    );
+    // Its points on the surface.
+    for x in &path.points {
+        let e = x[0] * x[0] / 4.0 + x[1] * x[1] / 0.25 + x[2] * x[2] / 0.25;
+        assert!((e - 1.0).abs() < 1e-6, "{x:?}");
+    }
+}
