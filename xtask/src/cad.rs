@@ -11,7 +11,7 @@
 //! `verify` runs the sphere families (poles and seams of OpenCASCADE's sphere, JSON and
 //! IGES geometry) and the coarse boundary-layer tets (stretch 260); `verify --full` adds
 //! the finer boundary layer (stretch 288) and the wing body (trimmed B-spline faces in
-//! IGES), which still fails at p >= 3 (see the issue notes).
+//! IGES); both take minutes per order.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
