@@ -470,6 +470,17 @@ fn finish(
         );
     }
     let failures = uncertified_elements(linear, &curved);
+    // The validity contract's first clause: written boundary nodes on the geometry.
+    let size = geometry.map_or(1.0, |g| g.model.size());
+    let off_geometry = (curved.report.max_geometry_distance > 1e-10 * size).then(|| {
+        format!(
+            "written boundary nodes lie up to {:.3e} from the geometry, more than 1e-10 of the model size {size:.3e}",
+            curved.report.max_geometry_distance
+        )
+    });
+    if let (Some(message), false) = (&off_geometry, output.allow_invalid) {
+        bail!("{message}; nothing written (--allow-invalid writes the mesh anyway)");
+    }
     if curved_run
         && options.certify
         && curved.report.certified_valid_elements.is_none()
@@ -508,17 +519,14 @@ fn finish(
 
     print!("{}", curved.quality.summary);
     print_summary_table(&curved, out);
-    if curved.report.max_geometry_distance > 1e-10 * geometry.map_or(1.0, |g| g.model.size()) {
-        eprintln!(
-            "hocurve: warning: boundary nodes lie up to {:.3e} from the geometry (more than 1e-10 of the model size)",
-            curved.report.max_geometry_distance
-        );
-    }
     if let Some(path) = &output.report {
         written(write_report(path, &curved))?;
     }
     if let Some(dir) = &output.plots {
         written(write_plots(dir, &curved.quality.summary))?;
+    }
+    if let Some(message) = off_geometry {
+        bail!("{message}; written anyway (--allow-invalid)");
     }
     if !failures.is_empty() {
         bail!("{}; written anyway (--allow-invalid)", failures);
