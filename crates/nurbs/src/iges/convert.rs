@@ -33,6 +33,7 @@
 //! model scale say. OpenCASCADE (through Gmsh) writes unit flag 2 (millimetres) with scale 1
 //! but the numbers are the CAD model's own, the same the mesh of that model uses.
 
+use std::cell::Cell;
 use std::collections::BTreeSet;
 use std::f64::consts::TAU;
 use std::path::Path;
@@ -59,7 +60,12 @@ pub fn geometry_from_iges(model: &IgesModel) -> Result<GeometryModel, IgesError>
     // The conversion follows references recursively: bounded once they are acyclic and
     // shallow.
     model.check_references()?;
-    Converter { model }.convert()
+    Converter {
+        model,
+        spent: Cell::new(0),
+        limit: model.expansion_limit(),
+    }
+    .convert()
 }
 
 /// Reads an IGES file and converts it with [`geometry_from_iges`].
@@ -106,6 +112,11 @@ fn same_curve(a: &NurbsCurve, b: &NurbsCurve) -> bool {
 
 struct Converter<'a> {
     model: &'a IgesModel,
+    /// Parameter Data records of the entities visited so far (once per visit).
+    spent: Cell<usize>,
+    /// [`IgesModel::expansion_limit`]: acyclic references may still share entities so
+    /// much that visiting each once per path would never end.
+    limit: usize,
 }
 
 impl<'a> Converter<'a> {
@@ -117,6 +128,7 @@ impl<'a> Converter<'a> {
         let mut slots: Vec<Vec<Converted<'a>>> = Vec::with_capacity(top.len());
         let mut waiting = Vec::new();
         for (k, &e) in top.iter().enumerate() {
+            self.visit(e)?;
             let converted = if is_surface(e) && two_d {
                 self.face_boundary_curves(e)
             } else if is_surface(e) {
@@ -201,12 +213,30 @@ impl<'a> Converter<'a> {
         Ok(out)
     }
 
+    /// Counts a visit of `e` against the expansion limit.
+    fn visit(&self, e: &IgesEntity) -> Result<(), IgesError> {
+        let records = (e.directory.parameter_line_count as usize).max(1);
+        let spent = self.spent.get().saturating_add(records);
+        self.spent.set(spent);
+        if spent > self.limit {
+            return Err(IgesError::ExpansionTooLarge {
+                line: e.line,
+                de: e.de,
+                entity_type: e.type_number(),
+                limit: self.limit,
+                records: self.model.parameter_records(),
+            });
+        }
+        Ok(())
+    }
+
     /// The entity at DE `de`, referenced by `parent`; unsupported types are an error naming
-    /// both.
+    /// both. Every reference followed passes here, so the visits are counted here.
     fn child(&self, de: u32, parent: &IgesEntity) -> Result<&'a IgesEntity, IgesError> {
         let e = self.model.entity(de).ok_or_else(|| {
             geometry_error(parent, format!("refers to DE {de}, which does not exist"))
         })?;
+        self.visit(e)?;
         match e.kind {
             EntityData::Brep { .. } | EntityData::Unsupported { .. } => Err(unsupported(
                 e,

@@ -3,6 +3,12 @@
 
 use super::sections::Param;
 use super::IgesError;
+use crate::basis::MAX_DEGREE;
+
+/// What a degree must be (the text of [`IgesError::Parameter`] is static).
+const DEGREE_EXPECTED: &str = "a degree from 0 to 24 (the highest supported)";
+// keeps the message above true
+const _: () = assert!(MAX_DEGREE == 24);
 
 /// The parameters of one entity, by type. Pointers are DE sequence numbers (odd).
 #[derive(Debug, Clone, PartialEq)]
@@ -357,6 +363,17 @@ impl<'a> Reader<'a> {
         (0..n).map(|_| self.xyz("X", "Y", "Z")).collect()
     }
 
+    /// A B-spline degree: at most [`MAX_DEGREE`], which bounds the work of every later
+    /// step (degree elevation, knot insertion) whatever the file says.
+    fn degree(&mut self, name: &'static str) -> Result<usize, IgesError> {
+        let i = self.next;
+        let m = self.non_negative(name)?;
+        if m > MAX_DEGREE {
+            return Err(self.error(i, name, DEGREE_EXPECTED));
+        }
+        Ok(m)
+    }
+
     fn non_negative(&mut self, name: &'static str) -> Result<usize, IgesError> {
         let i = self.next;
         let v = self.int(name)?;
@@ -448,7 +465,7 @@ pub(crate) fn parse_entity(entity_type: i32, r: &mut Reader<'_>) -> Result<Entit
         126 => {
             let at = 1;
             let k = r.non_negative("K")?;
-            let m = r.non_negative("M")?;
+            let m = r.degree("M")?;
             let (planar, closed, polynomial, periodic) = (
                 r.flag("PROP1")?,
                 r.flag("PROP2")?,
@@ -486,8 +503,8 @@ pub(crate) fn parse_entity(entity_type: i32, r: &mut Reader<'_>) -> Result<Entit
             let at = 1;
             let k1 = r.non_negative("K1")?;
             let k2 = r.non_negative("K2")?;
-            let m1 = r.non_negative("M1")?;
-            let m2 = r.non_negative("M2")?;
+            let m1 = r.degree("M1")?;
+            let m2 = r.degree("M2")?;
             let closed_u = r.flag("PROP1")?;
             let closed_v = r.flag("PROP2")?;
             let polynomial = r.flag("PROP3")?;

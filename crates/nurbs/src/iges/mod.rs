@@ -24,9 +24,18 @@ pub use convert::{geometry_from_iges, read_iges_geometry, RECOGNITION_TOLERANCE}
 pub use entities::{BSplineCurveData, BSplineSurfaceData, EntityData};
 pub use sections::{parse_int, parse_real, DirectoryEntry, GlobalSection, Param, ParamValue};
 
-/// Deepest chain of entity references accepted (a trimmed surface of a surface of
-/// revolution of a composite of curves is 4 deep; real files stay far below this).
+/// Deepest chain of entity references accepted, and longest chain of 124 transformation
+/// matrices (a trimmed surface of a surface of revolution of a composite of curves is 4
+/// deep; real files stay far below this).
 pub const MAX_NESTING: usize = 64;
+
+/// Conversion visits an entity once per path of references that reaches it; it may visit
+/// at most this many times the file's Parameter Data records (plus [`EXPANSION_MINIMUM`]).
+/// Real files reference each entity from one or two parents.
+pub const EXPANSION_FACTOR: usize = 64;
+
+/// The expansion allowed whatever the file's size (small files may share a lot).
+pub const EXPANSION_MINIMUM: usize = 100_000;
 
 /// Errors of IGES reading. `line` is the 1-based line number in the file.
 #[derive(Debug, thiserror::Error)]
@@ -97,9 +106,10 @@ pub enum IgesError {
     #[error("IGES line {line}: plane (entity type 108, DE {de}) has no boundary and the model nothing else to bound it")]
     UnboundedPlane { line: usize, de: u32 },
     /// Directory-entry pointers that lead back to where they started (a trimmed surface
-    /// whose surface is itself, a composite curve that contains itself, ...).
+    /// whose surface is itself, a composite curve that contains itself, a 124 matrix whose
+    /// own transformation leads back to it, ...).
     #[error(
-        "IGES line {line}: entity type {entity_type} (DE {de}) refers to itself through DE {cycle}"
+        "IGES line {line}: entity type {entity_type} (DE {de}) refers to itself through DE {cycle} ({via})"
     )]
     ReferenceCycle {
         line: usize,
@@ -107,16 +117,51 @@ pub enum IgesError {
         entity_type: i32,
         /// The DE numbers of the cycle, e.g. "7 -> 9 -> 7".
         cycle: String,
+        /// Which pointers form the cycle.
+        via: ReferenceKind,
     },
     /// References nested deeper than [`MAX_NESTING`] (no CAD system writes that; converting
     /// it would recurse without a useful bound).
-    #[error("IGES line {line}: entity type {entity_type} (DE {de}) nests references more than {max} deep")]
+    #[error(
+        "IGES line {line}: entity type {entity_type} (DE {de}) nests {via} more than {max} deep"
+    )]
     NestingTooDeep {
         line: usize,
         de: u32,
         entity_type: i32,
         max: usize,
+        via: ReferenceKind,
     },
+    /// Entities shared so often through references that converting them (each reference
+    /// converts its target again) would take more than [`EXPANSION_FACTOR`] times the
+    /// file's size: e.g. 60 nested composites each holding the next one twice, 2^60 curves.
+    #[error("IGES line {line}: entity type {entity_type} (DE {de}): converting the references would repeat entities for more than {limit} parameter records (the file has {records})")]
+    ExpansionTooLarge {
+        line: usize,
+        de: u32,
+        entity_type: i32,
+        limit: usize,
+        /// Parameter Data records of the whole file.
+        records: usize,
+    },
+}
+
+/// The pointers a [`IgesError::ReferenceCycle`] or [`IgesError::NestingTooDeep`] follows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ReferenceKind {
+    /// DE pointers in the parameter data (members, surfaces, boundaries, axes, ...).
+    Parameter,
+    /// Transformation matrix pointers (Directory Entry field 7).
+    Transformation,
+}
+
+impl std::fmt::Display for ReferenceKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            ReferenceKind::Parameter => "parameter pointers",
+            ReferenceKind::Transformation => "transformation matrix pointers (DE field 7)",
+        })
+    }
 }
 
 impl IgesError {
@@ -133,7 +178,8 @@ impl IgesError {
             | IgesError::Geometry { line, .. }
             | IgesError::UnboundedPlane { line, .. }
             | IgesError::ReferenceCycle { line, .. }
-            | IgesError::NestingTooDeep { line, .. } => Some(*line),
+            | IgesError::NestingTooDeep { line, .. }
+            | IgesError::ExpansionTooLarge { line, .. } => Some(*line),
         }
     }
 }
@@ -202,7 +248,7 @@ impl IgesModel {
         while let Some(de) = next {
             steps += 1;
             if steps > self.entities.len() {
-                break; // cycles are rejected by the parser; never loop forever
+                break; // the parser rejects cycles; a hand-built model must not loop forever
             }
             let e = self.entity(de)?;
             let EntityData::TransformationMatrix { matrix } = &e.kind else {
@@ -263,6 +309,7 @@ impl IgesModel {
                         de: e.de,
                         entity_type: e.type_number(),
                         max: MAX_NESTING,
+                        via: ReferenceKind::Parameter,
                     });
                 }
                 depth[node] = d;
@@ -275,19 +322,24 @@ impl IgesModel {
 
     /// The error for the cycle closed by a reference to `back` from the top of `stack`.
     fn cycle_error(&self, stack: &[(usize, usize)], back: usize) -> IgesError {
-        let start = stack.iter().position(|&(n, _)| n == back).unwrap_or(0);
-        let mut des: Vec<String> = stack[start..]
+        let path: Vec<usize> = stack.iter().map(|&(n, _)| n).collect();
+        cycle_error(self, &path, back, ReferenceKind::Parameter)
+    }
+
+    /// Parameter Data records a conversion may visit (see [`EXPANSION_FACTOR`]).
+    pub fn expansion_limit(&self) -> usize {
+        let records: usize = self.parameter_records();
+        records
+            .saturating_mul(EXPANSION_FACTOR)
+            .saturating_add(EXPANSION_MINIMUM)
+    }
+
+    /// Parameter Data records of all entities.
+    pub fn parameter_records(&self) -> usize {
+        self.entities
             .iter()
-            .map(|&(n, _)| self.entities[n].de.to_string())
-            .collect();
-        des.push(self.entities[back].de.to_string());
-        let e = &self.entities[back];
-        IgesError::ReferenceCycle {
-            line: e.line,
-            de: e.de,
-            entity_type: e.type_number(),
-            cycle: des.join(" -> "),
-        }
+            .map(|e| e.directory.parameter_line_count as usize)
+            .sum()
     }
 
     /// Number of entities of each type.
@@ -435,37 +487,100 @@ fn validate(
             });
         }
     }
-    for e in &model.entities {
-        let mut next = e.transform;
-        let mut steps = 0;
-        while let Some(t) = next {
-            let target = model.entity(t);
-            let ok = matches!(
-                target.map(|x| &x.kind),
-                Some(EntityData::TransformationMatrix { .. })
-            );
-            if !ok || steps > model.entities.len() {
-                return Err(IgesError::Syntax {
+    check_transforms(model)
+}
+
+/// Checks the transformation pointers (DE field 7): each leads to a 124 matrix, whose own
+/// field 7 leads to another or ends, without a cycle and at most [`MAX_NESTING`] matrices
+/// long. Every entity is walked once (chain lengths are remembered), so a file of many long
+/// chains costs linear time.
+fn check_transforms(model: &IgesModel) -> Result<(), IgesError> {
+    let n = model.entities.len();
+    // matrices after an entity, `None` until known
+    let mut length: Vec<Option<usize>> = vec![None; n];
+    let mut on_path = vec![false; n];
+    for start in 0..n {
+        let mut path: Vec<usize> = Vec::new();
+        let mut node = start;
+        // walk until an entity whose chain length is known or that has no matrix
+        let mut tail = loop {
+            if let Some(known) = length[node] {
+                break known;
+            }
+            path.push(node);
+            on_path[node] = true;
+            let e = &model.entities[node];
+            let Some(t) = e.transform else {
+                break 0;
+            };
+            let target = transform_target(model, e, t)?;
+            if on_path[target] {
+                return Err(cycle_error(
+                    model,
+                    &path,
+                    target,
+                    ReferenceKind::Transformation,
+                ));
+            }
+            node = target;
+        };
+        // the walked entities have the chain below them plus their own matrix pointer
+        for &k in path.iter().rev() {
+            on_path[k] = false;
+            tail += usize::from(model.entities[k].transform.is_some());
+            if tail > MAX_NESTING {
+                let e = &model.entities[k];
+                return Err(IgesError::NestingTooDeep {
                     line: e.line,
-                    expected: format!(
-                        "DE {} field 7: a chain of pointers to 124 transformation matrices",
-                        e.de
-                    ),
-                    found: if ok {
-                        "a cycle".to_string()
-                    } else {
-                        match target {
-                            Some(x) => format!("DE {t} of entity type {}", x.type_number()),
-                            None => format!("DE {t}, which does not exist"),
-                        }
-                    },
+                    de: e.de,
+                    entity_type: e.type_number(),
+                    max: MAX_NESTING,
+                    via: ReferenceKind::Transformation,
                 });
             }
-            steps += 1;
-            next = target.and_then(|x| x.transform);
+            length[k] = Some(tail);
         }
     }
     Ok(())
+}
+
+/// The index of the 124 entity that `e`'s field 7 (`t`) points to.
+fn transform_target(model: &IgesModel, e: &IgesEntity, t: u32) -> Result<usize, IgesError> {
+    match model.entity(t) {
+        Some(x) if matches!(x.kind, EntityData::TransformationMatrix { .. }) => {
+            Ok((t as usize - 1) / 2)
+        }
+        other => Err(IgesError::Syntax {
+            line: e.line,
+            expected: format!(
+                "DE {} field 7: a pointer to a 124 transformation matrix or 0",
+                e.de
+            ),
+            found: match other {
+                Some(x) => format!("DE {t} of entity type {}", x.type_number()),
+                None => format!("DE {t}, which does not exist"),
+            },
+        }),
+    }
+}
+
+/// The error for a cycle: `path` (entity indices) ends with an entity pointing back to
+/// `back`, which is on it. Names the cycle from `back` round to itself.
+fn cycle_error(model: &IgesModel, path: &[usize], back: usize, via: ReferenceKind) -> IgesError {
+    let start = path.iter().position(|&n| n == back).unwrap_or(0);
+    let des: Vec<String> = path[start..]
+        .iter()
+        .chain(std::iter::once(&back))
+        .map(|&n| model.entities[n].de.to_string())
+        .collect();
+    let e = &model.entities[back];
+    IgesError::ReferenceCycle {
+        line: e.line,
+        de: e.de,
+        entity_type: e.type_number(),
+        cycle: des.join(" -> "),
+        via,
+    }
 }
 
 #[cfg(test)]

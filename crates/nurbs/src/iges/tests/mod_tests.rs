@@ -658,7 +658,13 @@ fn non_numeric_parameter_names_the_line() {
             params: m,
         },
     ];
-    assert!(err(&build(GLOBAL, &cyc)).to_string().contains("cycle"));
+    assert!(matches!(
+        err(&build(GLOBAL, &cyc)),
+        IgesError::ReferenceCycle {
+            via: ReferenceKind::Transformation,
+            ..
+        }
+    ));
 }
 
 #[test]
