@@ -590,3 +590,7 @@ mod tests;
 #[cfg(test)]
 #[path = "tests/cycles.rs"]
 mod cycle_tests;
+
+#[cfg(test)]
+#[path = "tests/fuzz.rs"]
+mod fuzz_tests;
