@@ -63,22 +63,33 @@ pub(super) fn similarity_scale(t: &Affine) -> Option<f64> {
     Some(s2.sqrt())
 }
 
-pub(super) fn transform_curve(mut c: NurbsCurve, t: &Affine) -> NurbsCurve {
+/// The curve with `t` applied to its control points; an error when that leaves the
+/// floating-point range (huge matrices or coordinates in the file).
+pub(super) fn transform_curve(mut c: NurbsCurve, t: &Affine) -> Result<NurbsCurve, String> {
     if *t != IDENTITY {
-        for p in &mut c.control_points {
-            *p = apply(t, *p);
-        }
+        transform_points(&mut c.control_points, t)?;
     }
-    c
+    Ok(c)
 }
 
-pub(super) fn transform_surface(mut s: NurbsSurface, t: &Affine) -> NurbsSurface {
+/// The surface with `t` applied to its control points (an error as [`transform_curve`]).
+pub(super) fn transform_surface(mut s: NurbsSurface, t: &Affine) -> Result<NurbsSurface, String> {
     if *t != IDENTITY {
-        for p in &mut s.control_points {
-            *p = apply(t, *p);
+        transform_points(&mut s.control_points, t)?;
+    }
+    Ok(s)
+}
+
+fn transform_points(points: &mut [[f64; 3]], t: &Affine) -> Result<(), String> {
+    for (i, p) in points.iter_mut().enumerate() {
+        *p = apply(t, *p);
+        if !p.iter().all(|x| x.is_finite()) {
+            return Err(format!(
+                "the transformation matrices take control point {i} out of the floating-point range"
+            ));
         }
     }
-    s
+    Ok(())
 }
 
 /// The analytic shape mapped by `t`, when `t` is a similarity (else there is none).

@@ -310,7 +310,7 @@ impl<'a> Converter<'a> {
                 )))
             }
         };
-        Ok(transform_curve(c, &self.own_transform(e)))
+        transform_curve(c, &self.own_transform(e)).map_err(fail)
     }
 
     /// A curve entity in model space (`to_model` maps its parent's space there), split into
@@ -340,7 +340,8 @@ impl<'a> Converter<'a> {
                 out.extend(self.curve_entities(self.child(*de, e)?, &placed, note)?);
             }
             _ => {
-                let c = transform_curve(self.curve(e)?, to_model);
+                let c = transform_curve(self.curve(e)?, to_model)
+                    .map_err(|reason| geometry_error(e, reason))?;
                 let analytic = self
                     .placed_circle(e)
                     .filter(|c| c.full)
@@ -427,7 +428,8 @@ impl<'a> Converter<'a> {
             } => {
                 let mut cover = cover.to_vec();
                 if let Some(de) = boundary {
-                    let c = transform_curve(self.curve(self.child(*de, e)?)?, &placed);
+                    let c =
+                        transform_curve(self.curve(self.child(*de, e)?)?, &placed).map_err(fail)?;
                     cover.extend_from_slice(&c.control_points);
                 }
                 if cover.is_empty() {
@@ -459,7 +461,7 @@ impl<'a> Converter<'a> {
             }
         };
         Ok((
-            transform_surface(s, &placed),
+            transform_surface(s, &placed).map_err(fail)?,
             analytic.and_then(|a| transform_shape(a, &placed)),
         ))
     }

@@ -573,6 +573,36 @@ fn bad_geometry_is_an_error_not_a_panic() {
 }
 
 #[test]
+fn transformations_that_overflow_are_an_error_not_an_infinite_control_point() {
+    // found by the mutation test: a 124 scaling coordinates of 1e300 by 1e10
+    let scale = "124,1.E10,0.,0.,0.,0.,1.,0.,0.,0.,0.,1.,0.;";
+    for ents in [
+        vec![
+            with_transform(ent(110, "110,1.E300,0.,0.,0.,1.,0.;"), 3),
+            ent(124, scale),
+        ],
+        vec![
+            with_transform(
+                ent(
+                    128,
+                    "128,1,1,1,1,0,0,1,0,0,0.,0.,1.,1.,0.,0.,1.,1.,1.,1.,1.,1.,\
+                     0.,0.,0.,1.E300,0.,0.,0.,1.,0.,1.,1.,0.,0.,1.,0.,1.;",
+                ),
+                3,
+            ),
+            ent(124, scale),
+        ],
+    ] {
+        let err = convert_text(&build(GLOBAL, &ents)).unwrap_err();
+        assert!(
+            matches!(err, IgesError::Geometry { de: 1, .. })
+                && err.to_string().contains("out of the floating-point range"),
+            "{err}"
+        );
+    }
+}
+
+#[test]
 fn duplicate_labels_get_the_de_number() {
     let text = build(
         GLOBAL,

@@ -269,7 +269,7 @@ fn mutate(s: &mut Skeleton, rng: &mut Rng) {
     let des = s.des();
     let i = rng.below(n);
     let own = 2 * i + 1;
-    match rng.below(12) {
+    match rng.below(14) {
         // a pointer redirected: to itself, to a parent (a cycle of two), anywhere
         0 | 1 => {
             let Some(&(a, k)) = rng.pick(&s.pointer_tokens()) else {
@@ -373,6 +373,28 @@ fn mutate(s: &mut Skeleton, rng: &mut Rng) {
                 }
                 _ => e.tokens.swap(a, b),
             }
+        }
+        // a real number made extreme, zero, negative or equal to a neighbour (degenerate
+        // radii, knots out of order, zero weights, singular matrices, overflow)
+        11 | 12 => {
+            let e = &mut s.entities[i];
+            let reals: Vec<usize> = (1..e.tokens.len())
+                .filter(|&k| e.tokens[k].contains('.'))
+                .collect();
+            let Some(&k) = rng.pick(&reals) else {
+                return;
+            };
+            let x: f64 = e.tokens[k].replace(['D', 'd'], "E").parse().unwrap_or(1.0);
+            let neighbour = e.tokens[if k > 1 { k - 1 } else { k }].clone();
+            e.tokens[k] = match rng.below(7) {
+                0 => "0.".to_string(),
+                1 => format!("{:E}", -x),
+                2 => format!("{:E}", x * 1e200),
+                3 => format!("{:E}", x * 1e-200),
+                4 => format!("{:E}", x + 1e-9),
+                5 => "1.7E308".to_string(),
+                _ => neighbour,
+            };
         }
         // a character of a parameter replaced
         _ => {
