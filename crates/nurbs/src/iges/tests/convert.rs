@@ -743,3 +743,31 @@ fn unbounded_plane_covers_the_rest_of_the_model() {
         Err(IgesError::Geometry { de: 1, .. })
     ));
 }
+
+#[test]
+fn joining_a_long_spline_takes_linear_time_and_keeps_it() {
+    // A cubic of 20 000 control points (a 2 MB file's worth) after a line: the Bézier
+    // decomposition inserted each knot with a copy of the whole curve before, O(n²).
+    let n = 20_000;
+    let p = 3;
+    let mut knots = vec![0.0; p + 1];
+    knots.extend((1..n - p).map(|i| i as f64));
+    knots.extend(vec![(n - p) as f64; p + 1]);
+    let points: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let t = i as f64 / 100.0;
+            [1.0 + t, t.sin(), 0.0]
+        })
+        .collect();
+    let spline = NurbsCurve::non_rational(p, knots, points).unwrap();
+    let line = line_segment([0.0, 0.0, 0.0], [1.0, 0.0, 0.0]).unwrap();
+    let started = std::time::Instant::now();
+    let joined = concatenate(&[line, spline.clone()], 1e-12).unwrap();
+    assert!(started.elapsed().as_secs() < 5, "{:?}", started.elapsed());
+    let (s0, _) = joined.domain();
+    for k in 0..=100 {
+        let t = (n - p) as f64 * k as f64 / 100.0;
+        let d = distance(joined.point(s0 + 1.0 + t), spline.point(t));
+        assert!(d < 1e-9, "{t}: {d}");
+    }
+}

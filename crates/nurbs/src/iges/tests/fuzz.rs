@@ -444,7 +444,9 @@ fn damage(text: &str, rng: &mut Rng) -> String {
 /// Mutant `index` of a fixture: one to four structural mutations, then in one case of
 /// eight a damage to the text.
 fn mutant(skeleton: &Skeleton, seed: u64, fixture: usize, index: usize) -> String {
-    let mut rng = Rng(seed ^ ((fixture as u64) << 32) ^ index as u64);
+    // the seed hashed first: seeds differing in low bits must not give the same mutants
+    // in another order
+    let mut rng = Rng(Rng(seed).next() ^ ((fixture as u64) << 32) ^ index as u64);
     let mut s = skeleton.clone();
     for _ in 0..1 + rng.below(4) {
         mutate(&mut s, &mut rng);
