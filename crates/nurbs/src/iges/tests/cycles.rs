@@ -289,3 +289,44 @@ fn counts_larger_than_the_data_are_errors_before_any_allocation() {
         );
     }
 }
+
+#[test]
+fn the_deepest_accepted_nesting_converts_on_a_small_stack() {
+    // A revolution (DE 1) about a line (DE 3) of a generatrix that is a chain of composites
+    // ending in a line: MAX_NESTING levels in all, the most check_references accepts. Each
+    // level is a few frames of the recursive conversion (surface, curve, join); on a
+    // thread of 512 KiB (a quarter of the default) it must not overflow.
+    let composites = MAX_NESTING - 2;
+    let mut params = vec![
+        "120,3,5,0.,6.283185307;".to_string(),
+        "110,0.,0.,0.,0.,0.,1.;".to_string(),
+    ];
+    for k in 0..composites {
+        params.push(format!("102,1,{};", 2 * (k + 3) + 1));
+    }
+    params.push("110,1.,0.,0.,1.,0.,1.;".to_string());
+    let ents: Vec<_> = params
+        .iter()
+        .map(|p| ent(p[..3].parse().unwrap_or(0), p))
+        .collect();
+    let text = build(GLOBAL, &ents);
+    let model = std::thread::Builder::new()
+        .stack_size(512 << 10)
+        .spawn(move || convert(&text).map(|m| m.entities.len()))
+        .expect("a thread")
+        .join()
+        .expect("no stack overflow (that would abort) and no panic");
+    assert_eq!(model.expect("converts"), 1);
+    // one level more is refused
+    let mut deeper = params.clone();
+    let last = deeper.len();
+    deeper.insert(last - 1, format!("102,1,{};", 2 * last + 1));
+    let ents: Vec<_> = deeper
+        .iter()
+        .map(|p| ent(p[..3].parse().unwrap_or(0), p))
+        .collect();
+    assert!(matches!(
+        convert(&build(GLOBAL, &ents)),
+        Err(IgesError::NestingTooDeep { .. })
+    ));
+}
