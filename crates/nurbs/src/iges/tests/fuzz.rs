@@ -24,11 +24,11 @@ use crate::EntityGeometry;
 
 /// The fixtures mutated, and how many mutants of each (the wing body is larger: fewer).
 const CORPUS: [(&str, usize); 5] = [
-    ("formats/torus.igs", 1200),
-    ("formats/cylinder.igs", 1200),
-    ("sphere/sphere.igs", 1200),
-    ("naca0012/naca0012.igs", 1200),
-    ("cad/wing_body.igs", 300),
+    ("formats/torus.igs", 2400),
+    ("formats/cylinder.igs", 2400),
+    ("sphere/sphere.igs", 2400),
+    ("naca0012/naca0012.igs", 2400),
+    ("cad/wing_body.igs", 600),
 ];
 
 /// Multiplies the mutant counts (environment variable `IGES_FUZZ_SCALE`, default 1) and
