@@ -248,6 +248,7 @@ fn quarter_annulus(n: usize) -> LinearMesh {
             .collect::<BTreeMap<_, _>>(),
         vertex_tags: Vec::new(),
         cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
     }
 }
 

@@ -121,13 +121,14 @@ pub fn associate_boundary(
                 .find_map(|name| geometry.index_of(name))
         })
         .collect();
-    for (facet, entity) in mesh.facets.iter().zip(&facet_entity) {
+    for (f, (facet, entity)) in mesh.facets.iter().zip(&facet_entity).enumerate() {
         if let Some(e) = *entity {
             if geometry.entities[e].is_curve() != wants_curve {
                 return Err(GeodesicError::EntityDimension {
                     entity: geometry.entities[e].name.clone(),
                     mesh_dim: mesh.dim,
                     facet_vertices: facet.vertices.clone(),
+                    facet_tag: mesh.facet_tag(f),
                 });
             }
         }

@@ -42,11 +42,14 @@ pub enum GeodesicError {
         tolerance: f64,
     },
     /// A facet was associated by name with an entity of the wrong dimension.
-    #[error("entity \"{entity}\" is a {} but the boundary of a {mesh_dim}D mesh needs {} (facet with vertices {facet_vertices:?})", if *mesh_dim == 2 { "surface" } else { "curve" }, if *mesh_dim == 2 { "curves" } else { "surfaces" })]
+    #[error("entity \"{entity}\" is a {} but the boundary of a {mesh_dim}D mesh needs {} (facet with element tag {facet_tag})", if *mesh_dim == 2 { "surface" } else { "curve" }, if *mesh_dim == 2 { "curves" } else { "surfaces" })]
     EntityDimension {
         entity: String,
         mesh_dim: usize,
+        /// The facet's vertices (0-based indices).
         facet_vertices: Vec<u32>,
+        /// The facet's tag in the file (Gmsh element tag).
+        facet_tag: u64,
     },
     /// An option of [`PlacementOptions`] out of its range.
     #[error("placement option {option}: {reason}")]

@@ -1659,6 +1659,11 @@ impl<'a> Parser<'a> {
                 .get_mut(dim)
                 .map(std::mem::take)
                 .unwrap_or_default(),
+            facet_tags: self
+                .element_tags
+                .get_mut(dim - 1)
+                .map(std::mem::take)
+                .unwrap_or_default(),
         })
     }
 
@@ -1873,8 +1878,13 @@ pub fn parse_high_order_msh(bytes: &[u8], path: &Path) -> Result<HighOrderMesh, 
                 ),
                 None => as_mesh_error(source),
             },
+            // The check ran on renumbered corners: the element is named by its record,
+            // not by the tags in `source`.
             MeshError::RepeatedVertex { what, index, .. } => match records(what).get(index) {
-                Some(r) => malformed(r.location, format!("element {}: {source}", r.tag)),
+                Some(r) => malformed(
+                    r.location,
+                    format!("element {} uses a node twice (collapsed element)", r.tag),
+                ),
                 None => as_mesh_error(source),
             },
             other => as_mesh_error(other),

@@ -187,9 +187,11 @@ fn check_elements(
     for (index, e) in elements.iter().enumerate() {
         let shape = e.kind.shape()?;
         if shape.dim() != dim {
+            // Elements built in memory have no file tags: their 1-based position.
             return Err(MeshError::WrongDimension {
                 what,
                 index,
+                tag: index as u64 + 1,
                 kind: e.kind,
                 expected: dim,
             });

@@ -220,7 +220,13 @@ impl HighOrderMesh {
         for (k, facet) in mesh.facets.iter().enumerate() {
             let not_found = || MeshError::FacetNotInMesh {
                 index: k,
+                tag: mesh.facet_tag(k),
                 vertices: facet.vertices.clone(),
+                vertex_tags: facet
+                    .vertices
+                    .iter()
+                    .map(|&v| mesh.vertex_tag(v as usize))
+                    .collect(),
             };
             let shape = facet.kind.shape()?;
             let v = &facet.vertices;
@@ -304,6 +310,7 @@ impl HighOrderMesh {
             entity_physicals: self.entity_physicals.clone(),
             vertex_tags: Vec::new(),
             cell_tags: Vec::new(),
+            facet_tags: Vec::new(),
         };
         linear.validate()?;
         Self::straight_sided(&linear, order, self.family)

@@ -38,7 +38,10 @@ pub use jagged::Jagged;
 pub use linear::{Element, LinearMesh, PhysicalGroup};
 pub use topology::{canonical_face, Topology, NO_CELL};
 
-/// Errors of the mesh model. Indices are 0-based positions in the mesh's lists.
+/// Errors of the mesh model. Indices are 0-based positions in the mesh's lists; messages
+/// name elements and vertices by their tags in the file ([`LinearMesh::cell_tag`],
+/// [`LinearMesh::facet_tag`], [`LinearMesh::vertex_tag`]: Gmsh element and node tags, or
+/// 1-based positions for meshes that have none).
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
     /// An element type hocurve cannot handle yet.
@@ -54,67 +57,92 @@ pub enum MeshError {
         dim: usize,
     },
     /// An element of the wrong dimension in a list.
-    #[error("{what} {index} is a {kind}, expected an element of dimension {expected}")]
+    #[error(
+        "{what} with element tag {tag} is a {kind}, expected an element of dimension {expected}"
+    )]
     WrongDimension {
         /// "cell" or "facet".
         what: &'static str,
         /// Element index.
         index: usize,
+        /// Its tag in the file (Gmsh element tag).
+        tag: u64,
         /// Its type.
         kind: ElementType,
         /// Expected dimension.
         expected: usize,
     },
     /// Vertex count does not match the element type.
-    #[error("{what} {index} is a {kind} with {found} vertices")]
+    #[error("{what} with element tag {tag} is a {kind} with {found} vertices")]
     WrongVertexCount {
         /// "cell" or "facet".
         what: &'static str,
         /// Element index.
         index: usize,
+        /// Its tag in the file (Gmsh element tag).
+        tag: u64,
         /// Its type.
         kind: ElementType,
         /// Vertices given.
         found: usize,
     },
     /// A vertex id outside the vertex list.
-    #[error("{what} {index} references vertex {vertex}, but the mesh has {count} vertices")]
+    #[error("{what} with element tag {tag} references vertex {vertex} (0-based), but the mesh has {count} vertices")]
     VertexOutOfRange {
         /// "cell" or "facet".
         what: &'static str,
         /// Element index.
         index: usize,
+        /// Its tag in the file (Gmsh element tag).
+        tag: u64,
         /// The bad vertex id.
         vertex: usize,
         /// Number of vertices.
         count: usize,
     },
     /// The same vertex twice in one element (a collapsed element).
-    #[error("{what} {index} uses vertex {vertex} twice (collapsed element)")]
+    #[error("{what} with element tag {tag} uses node tag {vertex_tag} twice (collapsed element)")]
     RepeatedVertex {
         /// "cell" or "facet".
         what: &'static str,
         /// Element index.
         index: usize,
+        /// Its tag in the file (Gmsh element tag).
+        tag: u64,
         /// The repeated vertex.
         vertex: usize,
+        /// Its tag in the file (Gmsh node tag).
+        vertex_tag: u64,
     },
     /// A vertex coordinate is NaN or infinite.
-    #[error("vertex {0} has a non-finite coordinate")]
-    NonFiniteVertex(usize),
+    #[error("node tag {tag} has a non-finite coordinate")]
+    NonFiniteVertex {
+        /// Vertex index.
+        index: usize,
+        /// Its tag in the file (Gmsh node tag).
+        tag: u64,
+    },
     /// More than two cells share a face (or, in 2D, an edge).
-    #[error("non-manifold mesh: more than two cells share the facet with vertices {vertices:?}")]
+    #[error(
+        "non-manifold mesh: more than two cells share the facet with node tags {vertex_tags:?}"
+    )]
     NonManifold {
         /// The facet's vertices.
         vertices: Vec<u32>,
+        /// Their tags in the file (Gmsh node tags).
+        vertex_tags: Vec<u64>,
     },
     /// A facet of the file is not a face of any cell.
-    #[error("facet {index} (vertices {vertices:?}) is not a face of any cell")]
+    #[error("facet with element tag {tag} (node tags {vertex_tags:?}) is not a face of any cell")]
     FacetNotInMesh {
         /// Facet index.
         index: usize,
+        /// Its tag in the file (Gmsh element tag).
+        tag: u64,
         /// Its vertices.
         vertices: Vec<u32>,
+        /// Their tags in the file (Gmsh node tags).
+        vertex_tags: Vec<u64>,
     },
     /// A cell with non-positive volume (or, in 2D, orientation opposite to the others).
     #[error(

@@ -48,6 +48,9 @@ pub struct LinearMesh {
     pub vertex_tags: Vec<u64>,
     /// The file's tag of each cell (Gmsh element tags); empty: 1-based positions.
     pub cell_tags: Vec<u64>,
+    /// The file's tag of each facet (Gmsh element tags, one numbering with the cells');
+    /// empty: 1-based positions.
+    pub facet_tags: Vec<u64>,
 }
 
 impl LinearMesh {
@@ -63,6 +66,15 @@ impl LinearMesh {
     /// [`Self::cell_tags`], else the 1-based position.
     pub fn cell_tag(&self, index: usize) -> u64 {
         self.cell_tags
+            .get(index)
+            .copied()
+            .unwrap_or(index as u64 + 1)
+    }
+
+    /// The file's tag of facet `index` (Gmsh element tag), for messages; see
+    /// [`Self::cell_tag`].
+    pub fn facet_tag(&self, index: usize) -> u64 {
+        self.facet_tags
             .get(index)
             .copied()
             .unwrap_or(index as u64 + 1)
@@ -110,12 +122,25 @@ impl LinearMesh {
                 unused.push(self.vertex_tag(v));
             }
         }
-        // Facets on unused vertices belong to no cell: they are dropped with them.
-        mesh.facets.retain(|f| {
-            f.vertices
-                .iter()
-                .all(|&v| used.get(v as usize) == Some(&true))
-        });
+        // Facets on unused vertices belong to no cell: they are dropped with them (and
+        // their tags with them).
+        let kept: Vec<bool> = self
+            .facets
+            .iter()
+            .map(|f| {
+                f.vertices
+                    .iter()
+                    .all(|&v| used.get(v as usize) == Some(&true))
+            })
+            .collect();
+        if !self.facet_tags.is_empty() {
+            mesh.facet_tags = (0..self.facets.len())
+                .filter(|&f| kept[f])
+                .map(|f| self.facet_tag(f))
+                .collect();
+        }
+        let mut keep = kept.iter();
+        mesh.facets.retain(|_| keep.next() == Some(&true));
         for e in mesh.cells.iter_mut().chain(mesh.facets.iter_mut()) {
             for v in &mut e.vertices {
                 *v = new_id[*v as usize];
@@ -144,12 +169,20 @@ impl LinearMesh {
             ("cell", &self.cells, self.dim),
             ("facet", &self.facets, self.dim - 1),
         ] {
+            let tag = |i: usize| {
+                if what == "cell" {
+                    self.cell_tag(i)
+                } else {
+                    self.facet_tag(i)
+                }
+            };
             for (i, e) in list.iter().enumerate() {
                 e.kind.shape()?;
                 if e.kind.dim() != dim {
                     return Err(MeshError::WrongDimension {
                         what,
                         index: i,
+                        tag: tag(i),
                         kind: e.kind,
                         expected: dim,
                     });
@@ -158,6 +191,7 @@ impl LinearMesh {
                     return Err(MeshError::WrongVertexCount {
                         what,
                         index: i,
+                        tag: tag(i),
                         kind: e.kind,
                         found: e.vertices.len(),
                     });
@@ -167,6 +201,7 @@ impl LinearMesh {
                         return Err(MeshError::VertexOutOfRange {
                             what,
                             index: i,
+                            tag: tag(i),
                             vertex: v as usize,
                             count: n,
                         });
@@ -175,7 +210,9 @@ impl LinearMesh {
                         return Err(MeshError::RepeatedVertex {
                             what,
                             index: i,
+                            tag: tag(i),
                             vertex: v as usize,
+                            vertex_tag: self.vertex_tag(v as usize),
                         });
                     }
                 }
@@ -183,7 +220,10 @@ impl LinearMesh {
         }
         for (i, v) in self.vertices.iter().enumerate() {
             if v.iter().any(|c| !c.is_finite()) {
-                return Err(MeshError::NonFiniteVertex(i));
+                return Err(MeshError::NonFiniteVertex {
+                    index: i,
+                    tag: self.vertex_tag(i),
+                });
             }
         }
         Ok(())

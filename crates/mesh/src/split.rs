@@ -39,6 +39,7 @@ impl LinearMesh {
             let (pa, pb) = (mesh.vertices[a as usize], mesh.vertices[b as usize]);
             let m = mesh.vertices.len() as u32;
             let cells_before = mesh.cells.len();
+            let facets_before = mesh.facets.len();
             mesh.vertices.push([
                 0.5 * (pa[0] + pb[0]),
                 0.5 * (pa[1] + pb[1]),
@@ -67,10 +68,21 @@ impl LinearMesh {
                 let next = mesh.vertex_tags.iter().max().map_or(1, |t| t + 1);
                 mesh.vertex_tags.push(next);
             }
+            // Cells and facets share Gmsh's element numbering: new tags follow both.
+            let mut next = mesh
+                .cell_tags
+                .iter()
+                .chain(&mesh.facet_tags)
+                .max()
+                .map_or(1, |t| t + 1);
             if !mesh.cell_tags.is_empty() {
-                let next = mesh.cell_tags.iter().max().map_or(1, |t| t + 1);
                 let added = (mesh.cells.len() - cells_before) as u64;
                 mesh.cell_tags.extend(next..next + added);
+                next += added;
+            }
+            if !mesh.facet_tags.is_empty() {
+                let added = (mesh.facets.len() - facets_before) as u64;
+                mesh.facet_tags.extend(next..next + added);
             }
             split += 1;
         }

@@ -119,7 +119,14 @@ impl Topology {
             topo.cell_faces.push_row(row);
         }
         if let Some(vertices) = overfull {
-            return Err(MeshError::NonManifold { vertices });
+            let vertex_tags = vertices
+                .iter()
+                .map(|&v| mesh.vertex_tag(v as usize))
+                .collect();
+            return Err(MeshError::NonManifold {
+                vertices,
+                vertex_tags,
+            });
         }
         topo.facet_cells = if mesh.dim == 2 {
             edge_cells

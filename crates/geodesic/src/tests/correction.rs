@@ -216,6 +216,7 @@ fn thin_pair() -> (LinearMesh, [u32; 4]) {
         entity_physicals,
         vertex_tags: Vec::new(),
         cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
     };
     (mesh, [0, 1, 2, 3])
 }

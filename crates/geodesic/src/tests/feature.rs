@@ -121,6 +121,7 @@ fn can(n: usize, slope: f64) -> LinearMesh {
         entity_physicals,
         vertex_tags: Vec::new(),
         cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
     }
 }
 

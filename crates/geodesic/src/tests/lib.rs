@@ -83,7 +83,9 @@ fn without_matching_names_the_nearest_surface_within_the_tolerance_is_taken() {
 
 #[test]
 fn a_named_entity_that_misses_the_vertices_is_an_error_naming_the_vertex() {
-    let mesh = fixture("sphere/sphere.msh");
+    let mut mesh = fixture("sphere/sphere.msh");
+    // Tags unlike positions, so that the message shows which it used.
+    mesh.vertex_tags = (0..mesh.vertices.len() as u64).map(|v| 9000 + v).collect();
     let err = associate_boundary(
         &mesh,
         &sphere_model("sphere", 1.01),
@@ -93,14 +95,22 @@ fn a_named_entity_that_misses_the_vertices_is_an_error_naming_the_vertex() {
     .expect_err("vertices are 0.01 off");
     match &err {
         GeodesicError::VertexOffGeometry {
-            entity, distance, ..
+            entity,
+            distance,
+            vertex,
+            tag,
+            ..
         } => {
             assert_eq!(entity, "sphere");
             assert!((distance - 0.01).abs() < 1e-6);
+            assert_eq!(*tag, 9000 + u64::from(*vertex));
+            assert!(
+                err.to_string().contains(&format!("node tag {tag} ")),
+                "{err}"
+            );
         }
         other => panic!("{other:?}"),
     }
-    assert!(err.to_string().contains("node tag"), "{err}");
     // The same with a generous tolerance moves them.
     let a = associate_boundary(
         &mesh,
@@ -121,7 +131,8 @@ fn a_named_entity_that_misses_the_vertices_is_an_error_naming_the_vertex() {
 
 #[test]
 fn a_surface_for_a_2d_mesh_is_an_error() {
-    let mesh = fixture("naca0012/naca0012.msh");
+    let mut mesh = fixture("naca0012/naca0012.msh");
+    mesh.facet_tags = (0..mesh.facets.len() as u64).map(|f| 7000 + f).collect();
     let err = associate_boundary(
         &mesh,
         &sphere_model("airfoil", 1.0),
@@ -130,7 +141,11 @@ fn a_surface_for_a_2d_mesh_is_an_error() {
     )
     .expect_err("a 2D boundary needs curves");
     assert!(
-        matches!(err, GeodesicError::EntityDimension { .. }),
+        matches!(err, GeodesicError::EntityDimension { facet_tag, .. } if facet_tag >= 7000),
+        "{err}"
+    );
+    assert!(
+        err.to_string().contains("facet with element tag 70"),
         "{err}"
     );
 }
@@ -317,6 +332,7 @@ mod placement {
             entity_physicals,
             vertex_tags: Vec::new(),
             cell_tags: Vec::new(),
+            facet_tags: Vec::new(),
         }
     }
 

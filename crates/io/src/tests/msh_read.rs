@@ -850,12 +850,26 @@ fn million_tets_timing() {
 /// The file's node and element tags are kept for messages (sparse, unordered tags).
 #[test]
 fn node_and_element_tags_are_kept() {
-    for text in [MSH41, MSH22] {
+    for (text, facet) in [(MSH41, 5), (MSH22, 2)] {
         let m = parse(text).unwrap();
         assert_eq!(m.vertex_tags, vec![40, 10, 30, 20]);
         assert_eq!(m.cell_tags, vec![100, 7]);
+        assert_eq!(m.facet_tags, vec![facet]);
         assert_eq!(m.cell_tag(1), 7);
+        assert_eq!(m.facet_tag(0), facet);
         assert_eq!(m.vertex_tag(0), 40);
+    }
+    // Binary files, both byte orders: the same tags (one per kept element, duplicates of
+    // MSH 2's several physical tags dropped with their elements).
+    for be in [false, true] {
+        for m in [
+            parse_msh(&binary_v41(be), Path::new("b41.msh")).unwrap(),
+            parse_msh(&binary_v22(be), Path::new("b22.msh")).unwrap(),
+        ] {
+            assert_eq!(m.vertex_tags, vec![40, 10, 30, 20]);
+            assert_eq!(m.cell_tags, vec![100, 7]);
+            assert_eq!(m.facet_tags, vec![5]);
+        }
     }
     let m = parse(&MSH41.replace("40", "5000000000040")).unwrap();
     assert_eq!(m.vertex_tag(0), 5000000000040);

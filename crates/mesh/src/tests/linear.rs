@@ -124,12 +124,17 @@ fn unused_vertices_are_left_out_and_the_rest_renumbered() {
             },
         ],
         vertex_tags: vec![10, 20, 30, 40, 50],
+        cell_tags: vec![7],
+        facet_tags: vec![8, 9],
         ..Default::default()
     };
     let (pruned, unused) = mesh.without_unused_vertices();
     assert_eq!(unused, vec![10, 40]);
     assert_eq!(pruned.vertices.len(), 3);
     assert_eq!(pruned.vertex_tags, vec![20, 30, 50]);
+    assert_eq!(pruned.cell_tags, vec![7]);
+    // The facet on the unused vertices goes, with its tag.
+    assert_eq!(pruned.facet_tags, vec![8]);
     assert_eq!(pruned.cells[0].vertices, vec![0, 1, 2]);
     assert_eq!(pruned.facets.len(), 1);
     assert_eq!(pruned.facets[0].vertices, vec![0, 1]);
@@ -138,4 +143,79 @@ fn unused_vertices_are_left_out_and_the_rest_renumbered() {
     let (same, none) = pruned.without_unused_vertices();
     assert!(none.is_empty());
     assert_eq!(same, pruned);
+}
+
+/// Validation errors name elements and vertices by their tags in the file, not by their
+/// positions.
+#[test]
+fn validation_errors_name_file_tags() {
+    let mut mesh = one_cell(
+        2,
+        ElementType::Tri,
+        vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+    );
+    mesh.vertex_tags = vec![501, 502, 503];
+    mesh.cell_tags = vec![1234];
+    mesh.cells[0].vertices = vec![0, 1, 1];
+    let err = mesh.validate().unwrap_err();
+    assert!(
+        matches!(
+            err,
+            MeshError::RepeatedVertex {
+                index: 0,
+                tag: 1234,
+                vertex: 1,
+                vertex_tag: 502,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    let text = err.to_string();
+    assert!(text.contains("element tag 1234"), "{text}");
+    assert!(text.contains("node tag 502"), "{text}");
+
+    mesh.cells[0].vertices = vec![0, 1, 2];
+    mesh.facets = vec![Element {
+        kind: ElementType::Tri,
+        vertices: vec![0, 1, 2],
+        entity: 1,
+    }];
+    mesh.facet_tags = vec![77];
+    let text = mesh.validate().unwrap_err().to_string();
+    assert!(text.contains("facet with element tag 77"), "{text}");
+
+    mesh.facets.clear();
+    mesh.vertices[2][1] = f64::NAN;
+    let text = mesh.validate().unwrap_err().to_string();
+    assert!(text.contains("node tag 503"), "{text}");
+}
+
+/// A split edge's new cells and facets get element tags past the largest of both lists
+/// (Gmsh numbers cells and facets together).
+#[test]
+fn split_elements_get_new_tags_past_cells_and_facets() {
+    let mesh = LinearMesh {
+        dim: 2,
+        vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        cells: vec![Element {
+            kind: ElementType::Tri,
+            vertices: vec![0, 1, 2],
+            entity: 1,
+        }],
+        facets: vec![Element {
+            kind: ElementType::Line,
+            vertices: vec![0, 1],
+            entity: 2,
+        }],
+        vertex_tags: vec![1, 2, 3],
+        cell_tags: vec![10],
+        facet_tags: vec![20],
+        ..Default::default()
+    };
+    let (split, count) = mesh.split_edges(&[[0, 1]]);
+    assert_eq!(count, 1);
+    assert_eq!(split.cell_tags, vec![10, 21]);
+    assert_eq!(split.facet_tags, vec![20, 22]);
+    assert_eq!(split.vertex_tags, vec![1, 2, 3, 4]);
 }
