@@ -19,7 +19,10 @@ mod xml;
 #[path = "tests/meshes.rs"]
 mod test_meshes;
 
-pub use atomic::{check_writable, remove_temporary_files, write_atomically};
+pub use atomic::{
+    check_writable, exit_removing_temporary_files, remove_temporary_files, write_atomically,
+    StagedOutputs,
+};
 pub use msh_write::{write_msh, write_msh_with};
 pub use vtu_read::{parse_vtu, read_vtu};
 pub use vtu_write::{write_vtu, write_vtu_with, DataArray, VtuEncoding};
