@@ -180,11 +180,11 @@ enum SampleArg {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    // Interrupted (Ctrl-C, kill, hang-up): no half-written `.out.vtu.tmp<pid>` is left.
+    // Interrupted (Ctrl-C, kill, hang-up): no half-written `.out.vtu.tmp<pid>` is left, and
+    // the outputs are all in place or none (the commit and this cleanup share a lock).
     let _ = ctrlc::set_handler(|| {
-        hocurve_io::remove_temporary_files();
         eprintln!("hocurve: interrupted; no output written");
-        std::process::exit(130);
+        hocurve_io::exit_removing_temporary_files(130);
     });
     match run(cli) {
         Ok(()) => ExitCode::SUCCESS,
@@ -308,6 +308,9 @@ fn run(cli: Cli) -> Result<()> {
             histogram,
             stretching_histogram,
         } => {
+            for path in histogram.iter().chain(&stretching_histogram) {
+                hocurve_io::check_writable(path)?;
+            }
             let high_order = hocurve_io::read_high_order_mesh(&mesh)?;
             let options = hocurve_quality::QualityOptions {
                 sampling: match sample {
@@ -383,6 +386,8 @@ fn check_outputs(out: &Path, output: &OutputArgs) -> Result<()> {
     if let Some(dir) = &output.plots {
         if dir.is_dir() {
             hocurve_io::check_writable(&dir.join("scaled_jacobian.svg"))?;
+        } else if dir.exists() {
+            bail!("{}: is a file, not a folder for the plots", dir.display());
         } else {
             hocurve_io::check_writable(dir)?;
         }
@@ -500,18 +505,10 @@ fn finish(
     }
     display.spin("writing the mesh".into());
     let t = Instant::now();
-    write_curved(out, &curved)?;
-    // The mesh is in place: a failure from here on removes it again, so that a run leaves
-    // all its outputs or none.
-    let written = |result: Result<()>| {
-        if result.is_err() {
-            let _ = std::fs::remove_file(out);
-            if let Some(report) = &output.report {
-                let _ = std::fs::remove_file(report);
-            }
-        }
-        result
-    };
+    // Every output is staged and put in place at the end, together: a failure (or a
+    // signal) before that leaves the targets as they were.
+    let mut staged = hocurve_io::StagedOutputs::new();
+    write_curved(&staged.stage(out), &curved)?;
     curved.report.timings.write = t.elapsed().as_secs_f64();
     curved.report.timings.read = read_seconds;
     curved.report.timings.total = read_seconds + start.elapsed().as_secs_f64();
@@ -520,11 +517,12 @@ fn finish(
     print!("{}", curved.quality.summary);
     print_summary_table(&curved, out);
     if let Some(path) = &output.report {
-        written(write_report(path, &curved))?;
+        write_report(&staged.stage(path), &curved)?;
     }
     if let Some(dir) = &output.plots {
-        written(write_plots(dir, &curved.quality.summary))?;
+        write_plots(&mut staged, dir, &curved.quality.summary)?;
     }
+    staged.commit()?;
     if let Some(message) = off_geometry {
         bail!("{message}; written anyway (--allow-invalid)");
     }
@@ -671,10 +669,18 @@ fn write_curved(path: &Path, curved: &CurvedMesh) -> Result<()> {
     Ok(())
 }
 
-fn write_plots(dir: &Path, summary: &QualitySummary) -> Result<()> {
-    std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    hocurve_quality::write_histogram_svg(&dir.join("scaled_jacobian.svg"), summary)?;
-    hocurve_quality::write_stretching_histogram_svg(&dir.join("stretching.svg"), summary)?;
+/// Stages the quality histograms in `dir` (created if missing, removed again if the run
+/// fails before the commit).
+fn write_plots(
+    staged: &mut hocurve_io::StagedOutputs,
+    dir: &Path,
+    summary: &QualitySummary,
+) -> Result<()> {
+    staged.create_dir(dir)?;
+    let jacobian = staged.stage(&dir.join("scaled_jacobian.svg"));
+    hocurve_quality::write_histogram_svg(&jacobian, summary)?;
+    let stretching = staged.stage(&dir.join("stretching.svg"));
+    hocurve_quality::write_stretching_histogram_svg(&stretching, summary)?;
     Ok(())
 }
 

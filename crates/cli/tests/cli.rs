@@ -244,39 +244,138 @@ fn missing_output_folders_fail_at_once_with_one_line() {
     assert_eq!(err.matches("No such file").count(), 1, "{err}");
 }
 
-/// SIGTERM in the middle of a run: exit code 130, no temporary or partial file left.
+/// SIGTERM at several moments of a run (curving, writing): the run either finished before
+/// the signal, with all its outputs, or exits 130 leaving nothing, not even a temporary
+/// file or the plots folder. Waits for the run to start (its header on stdout) and polls
+/// for its end, so a slow or fast machine only shifts the moments hit.
 #[cfg(unix)]
 #[test]
 fn a_terminated_run_leaves_no_file_behind() {
+    use std::io::BufRead;
+    use std::time::{Duration, Instant};
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
-    let dir = tempfile::tempdir().unwrap();
-    for delay_ms in [300, 900] {
-        let child = Command::new(env!("CARGO_BIN_EXE_hocurve"))
+    let mut interrupted = 0;
+    for delay_ms in [0, 400, 1200, 2500] {
+        let dir = tempfile::tempdir().unwrap();
+        let mut child = Command::new(env!("CARGO_BIN_EXE_hocurve"))
             .args(["curve"])
             .arg(root.join("fixtures/cad/sphere_occ.msh"))
             .args(["-p", "4", "--geometry"])
             .arg(root.join("fixtures/cad/sphere_occ.json"))
-            .args(["-o", "out.vtu"])
+            .args([
+                "-o",
+                "out.vtu",
+                "--report",
+                "report.json",
+                "--plots",
+                "plots",
+            ])
             .current_dir(dir.path())
-            .stdout(std::process::Stdio::null())
+            .stdout(std::process::Stdio::piped())
             .stderr(std::process::Stdio::null())
             .spawn()
             .expect("hocurve starts");
-        std::thread::sleep(std::time::Duration::from_millis(delay_ms));
-        let killed = Command::new("kill")
-            .args(["-TERM", &child.id().to_string()])
-            .status()
-            .expect("kill runs");
-        let status = child.wait_with_output().expect("hocurve ends").status;
-        if killed.success() {
-            assert_eq!(status.code(), Some(130), "after {delay_ms} ms");
+        // The header line comes once the mesh is read and curving begins; the rest of
+        // stdout is drained so that the child never blocks on a full pipe.
+        let stdout = child.stdout.take().expect("piped stdout");
+        let (started_tx, started_rx) = std::sync::mpsc::channel();
+        let drain = std::thread::spawn(move || {
+            for line in std::io::BufReader::new(stdout).lines() {
+                match line {
+                    Ok(l) if l.contains("-> order") => {
+                        let _ = started_tx.send(());
+                    }
+                    Ok(_) => {}
+                    Err(_) => break,
+                }
+            }
+        });
+        let _ = started_rx.recv_timeout(Duration::from_secs(60));
+        std::thread::sleep(Duration::from_millis(delay_ms));
+        let finished_first = child.try_wait().expect("try_wait").is_some();
+        if !finished_first {
+            let killed = Command::new("kill")
+                .args(["-TERM", &child.id().to_string()])
+                .status()
+                .expect("kill runs");
+            assert!(killed.success());
         }
-        let left: Vec<_> = std::fs::read_dir(dir.path())
+        let start = Instant::now();
+        let status = loop {
+            if let Some(status) = child.try_wait().expect("try_wait") {
+                break status;
+            }
+            if start.elapsed() > Duration::from_secs(60) {
+                let _ = child.kill();
+                panic!("hocurve did not end within a minute of SIGTERM");
+            }
+            std::thread::sleep(Duration::from_millis(20));
+        };
+        let _ = drain.join();
+        let mut left: Vec<String> = std::fs::read_dir(dir.path())
             .unwrap()
-            .map(|e| e.unwrap().file_name())
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
             .collect();
-        assert!(left.is_empty() || status.success(), "{left:?}");
+        left.sort();
+        if status.success() {
+            // Finished before the signal: every output, no temporary file.
+            assert_eq!(
+                left,
+                ["out.vtu", "plots", "report.json"],
+                "after {delay_ms} ms"
+            );
+            let plots = std::fs::read_dir(dir.path().join("plots")).unwrap().count();
+            assert_eq!(plots, 2);
+        } else {
+            interrupted += 1;
+            assert_eq!(status.code(), Some(130), "after {delay_ms} ms");
+            assert!(left.is_empty(), "after {delay_ms} ms: {left:?}");
+        }
     }
+    // At least the signal sent as curving began must have interrupted it.
+    assert!(interrupted > 0, "every run finished before its signal");
+}
+
+/// A plot that cannot be written once the work is done (a folder stands where the file
+/// goes) fails the run and leaves every output as it was: the older mesh is still there,
+/// no report appears, nothing temporary is left.
+#[test]
+fn a_failed_plot_leaves_the_older_outputs_untouched() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("naca.vtu"), "older mesh").unwrap();
+    let blocked = dir.path().join("plots/stretching.svg");
+    std::fs::create_dir_all(&blocked).unwrap();
+    std::fs::write(blocked.join("keep"), "x").unwrap();
+    let out = hocurve(
+        &[
+            "demo",
+            "naca0012",
+            "-p",
+            "2",
+            "-o",
+            "naca.vtu",
+            "--report",
+            "report.json",
+            "--plots",
+            "plots",
+        ],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(err.contains("stretching.svg"), "{err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("naca.vtu")).unwrap(),
+        "older mesh"
+    );
+    let mut left: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .chain(std::fs::read_dir(dir.path().join("plots")).unwrap())
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(left, ["naca.vtu", "plots", "stretching.svg"]);
 }
 
 /// A node that no cell uses (a stray point in the file) is left out with a warning naming
@@ -345,4 +444,22 @@ fn an_order_beyond_the_machine_is_refused_with_its_estimate() {
     assert!(err.contains("GB"), "{err}");
     assert!(start.elapsed().as_secs_f64() < 20.0);
     assert!(!dir.path().join("big.vtu").exists());
+}
+
+/// `quality`'s histogram outputs are checked before the mesh is read: a missing folder is
+/// reported, not the unreadable mesh.
+#[test]
+fn quality_checks_its_histogram_folders_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = hocurve(
+        &["quality", "nothere.msh", "--histogram", "missing/h.svg"],
+        dir.path(),
+    );
+    assert_eq!(out.status.code(), Some(1));
+    let err = stderr(&out);
+    assert!(
+        err.contains("missing") && err.contains("no such folder"),
+        "{err}"
+    );
+    assert!(!err.contains("nothere.msh"), "{err}");
 }
