@@ -429,6 +429,31 @@ fn nodes_of_no_cell_are_left_out_with_a_warning() {
         serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
             .unwrap();
     assert_eq!(report["unused_node_tags"], serde_json::json!([777]));
+    // The output holds the nodes of the mesh without the stray one, exactly.
+    std::fs::write(dir.path().join("plain.msh"), &text).unwrap();
+    let plain = hocurve(
+        &[
+            "curve",
+            "plain.msh",
+            "-p",
+            "3",
+            "--geometry",
+            "top.json",
+            "--geometry-tolerance",
+            "0.1",
+            "-o",
+            "plain.vtu",
+        ],
+        dir.path(),
+    );
+    assert!(plain.status.success(), "{}", stderr(&plain));
+    assert!(!stderr(&plain).contains("no cell"), "{}", stderr(&plain));
+    let points = |name: &str| {
+        let vtu = std::fs::read_to_string(dir.path().join(name)).unwrap();
+        let at = vtu.find("NumberOfPoints=\"").expect("a piece") + "NumberOfPoints=\"".len();
+        vtu[at..vtu[at..].find('"').unwrap() + at].to_string()
+    };
+    assert_eq!(points("out.vtu"), points("plain.vtu"));
 }
 
 /// An order the machine cannot hold is refused up front, with the estimate.
