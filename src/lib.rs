@@ -10,6 +10,7 @@ pub mod demo;
 pub mod interpolation;
 pub mod memory;
 pub mod pipeline;
+pub mod repair;
 
 pub use hocurve_elastic as elastic;
 pub use hocurve_geodesic as geodesic;
@@ -18,3 +19,4 @@ pub use hocurve_mesh as mesh;
 pub use hocurve_nodes as nodes;
 pub use hocurve_nurbs as nurbs;
 pub use hocurve_quality as quality;
+pub use hocurve_untangle as untangle;

@@ -46,6 +46,9 @@ pub enum CurveError {
     /// Measuring quality failed.
     #[error(transparent)]
     Quality(#[from] QualityError),
+    /// Untangling elements that were not certified valid failed.
+    #[error(transparent)]
+    Untangle(#[from] hocurve_untangle::UntangleError),
     /// No boundary facet lies on the geometry.
     #[error("no boundary facet lies on the geometry (tolerance {tolerance:.3e}): name physical groups like the geometry's entities, or check units and the geometry tolerance")]
     NothingOnGeometry {
@@ -118,6 +121,9 @@ pub struct CurveOptions {
     /// it is not supported (det J degree too high) or too slow (order above
     /// [`CERTIFY_MAX_ORDER`]) the report says "not certified".
     pub certify: bool,
+    /// Repair elements the certification does not find valid by untangling the free nodes
+    /// around them (see [`crate::repair`]); needs `certify`.
+    pub untangle: bool,
 }
 
 impl CurveOptions {
@@ -135,6 +141,7 @@ impl CurveOptions {
             boundary_only: false,
             quality: QualityOptions::default(),
             certify: true,
+            untangle: true,
         }
     }
 }
@@ -152,6 +159,8 @@ pub enum Step {
     Elasticity,
     /// Measuring the curved mesh.
     Quality,
+    /// Untangling the elements not certified valid.
+    Repair,
 }
 
 impl Step {
@@ -159,6 +168,7 @@ impl Step {
     pub fn describe(self) -> &'static str {
         match self {
             Step::HighOrderNodes => "placing high-order nodes",
+            Step::Repair => "untangling elements not certified valid",
             Step::Association => "associating the boundary with the geometry",
             Step::BoundaryNodes => "placing boundary nodes on the geometry",
             Step::Elasticity => "solving linear elasticity",
@@ -193,6 +203,8 @@ pub struct StepTimings {
     pub solve: f64,
     /// Quality assessment.
     pub quality: f64,
+    /// Untangling elements not certified valid (including their re-certification).
+    pub repair: f64,
     /// Writing the output.
     pub write: f64,
     /// Wall time of everything above.
@@ -238,6 +250,11 @@ pub struct CurveReport {
     /// Corrections undone because an element touching them came out invalid (rounds of
     /// re-curving, at most [`MAX_REPAIRS`]).
     pub corrections_undone: usize,
+    /// Elements not certified valid after the elastic solve (and undone corrections), whose
+    /// patches were then untangled (0: none needed).
+    pub untangled_elements: usize,
+    /// Untangling rounds run (the patch reaches one more ring of cells each round).
+    pub untangle_rounds: usize,
     /// Interior edges split before curving (the input cells holding them had two facets on
     /// one curved entity, which curving would open to a 180° corner with det J = 0).
     pub edges_split: usize,
@@ -376,6 +393,31 @@ pub fn curve_mesh(
 
         let culprits = harmful_corrections(&attempt, &quality, &placement);
         if culprits.is_empty() || undone_corrections >= MAX_REPAIRS {
+            let (mut attempt, mut quality) = (attempt, quality);
+            let mut untangling = crate::repair::Untangling::default();
+            if options.untangle
+                && options.certify
+                && !options.boundary_only
+                && association.is_some()
+            {
+                let on_geometry: Vec<u32> = attempt
+                    .targets
+                    .as_ref()
+                    .map(|t| t.entities.keys().copied().collect())
+                    .unwrap_or_default();
+                if !crate::repair::not_certified(&quality).is_empty() {
+                    progress(Progress::Step(Step::Repair));
+                }
+                let t = Instant::now();
+                (quality, untangling) = crate::repair::untangle_not_certified(
+                    &mut attempt.mesh,
+                    &attempt.straight,
+                    on_geometry,
+                    quality,
+                    &|mesh| Ok(assess_certified(mesh, options)?),
+                )?;
+                timings.repair = t.elapsed().as_secs_f64();
+            }
             timings.total = start.elapsed().as_secs_f64();
             let association = association.as_ref().map(|(_, a)| a);
             let mut curved =
@@ -387,6 +429,8 @@ pub fn curve_mesh(
                 curved.split_input = Some(linear.clone());
             }
             curved.report.unused_node_tags = unused_node_tags;
+            curved.report.untangled_elements = untangling.elements;
+            curved.report.untangle_rounds = untangling.rounds;
             return Ok(curved);
         }
         undone_corrections += 1;
@@ -623,6 +667,8 @@ impl Attempt {
             min_edge_angle_degrees: targets.min_edge_angle_degrees,
             corrections_undone: undone_corrections,
             edges_split: 0,
+            untangled_elements: 0,
+            untangle_rounds: 0,
             unused_node_tags: Vec::new(),
             sliding_nodes: self.sliding_nodes,
             solver: self.solve.0,

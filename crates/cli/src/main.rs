@@ -138,6 +138,11 @@ struct MethodArgs {
     /// the sampled scaled Jacobian alone can miss det J < 0 near a vertex or face.
     #[arg(long)]
     no_certify: bool,
+    /// Do not repair elements the certification finds invalid (by default the free nodes
+    /// around them are untangled, boundary nodes held on the geometry); they then end the
+    /// run with exit 1.
+    #[arg(long)]
+    no_untangle: bool,
     /// Run even when the estimated peak memory exceeds this machine's memory.
     #[arg(long)]
     ignore_memory_estimate: bool,
@@ -370,6 +375,7 @@ impl MethodArgs {
         options.slide = self.slide.clone();
         options.boundary_only = self.boundary_only;
         options.certify = !self.no_certify;
+        options.untangle = !self.no_untangle;
         Ok(options)
     }
 }
@@ -565,18 +571,7 @@ fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified
     // edges: the halves of a split cell keep its tag, appended ones get new tags).
     let linear = curved.split_input.as_ref().unwrap_or(linear);
     let quality = &curved.quality;
-    let mut cells = hocurve::pipeline::invalid_cells(quality);
-    if let Some(checks) = &quality.validity {
-        cells.extend(
-            checks
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| c.validity == hocurve_quality::Validity::Undecided)
-                .map(|(e, _)| e),
-        );
-        cells.sort_unstable();
-        cells.dedup();
-    }
+    let cells = hocurve::repair::not_certified(quality);
     let named = cells
         .iter()
         .map(|&c| {
@@ -602,7 +597,7 @@ fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified
         })
         .collect();
     let r = &curved.report;
-    let step = if r.solver == "none" {
+    let mut step = if r.solver == "none" {
         "placing the boundary nodes".to_string()
     } else if r.corrections_undone > 0 {
         format!(
@@ -612,6 +607,12 @@ fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified
     } else {
         "the elastic solve".to_string()
     };
+    if r.untangle_rounds > 0 {
+        step += &format!(
+            ", then {} round(s) of untangling the patches around {} element(s)",
+            r.untangle_rounds, r.untangled_elements
+        );
+    }
     Uncertified(named, step)
 }
 

@@ -124,6 +124,17 @@ impl JacobianSampler {
         self.num_nodes
     }
 
+    /// ∇Φ_node at sample point `point` (reference coordinates; the components beyond the
+    /// shape's dimension are 0): the sensitivity of J(ξ_point) to that node's position,
+    /// ∂J/∂x_node = e_d ⊗ ∇Φ_node.
+    pub fn gradient(&self, node: usize, point: usize) -> [f64; 3] {
+        let dim = self.shape.dim();
+        let at = node * dim * self.points.len() + point * dim;
+        let mut g = [0.0; 3];
+        g[..dim].copy_from_slice(&self.gradients[at..at + dim]);
+        g
+    }
+
     /// det J(ξ_q) for every sample point q of the element whose node coordinates are
     /// `coords` (canonical local order). Allocates only while `workspace` grows.
     pub fn determinants_with<'w>(

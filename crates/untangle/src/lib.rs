@@ -1,0 +1,55 @@
+//! Repair of curved elements that are not valid (beyond the paper, whose elastic analogy
+//! does not guarantee det J > 0): the nodes around them that lie on no boundary are moved
+//! to minimise a Jacobian-barrier distortion energy, the boundary nodes staying where they
+//! are (on the geometry).
+//!
+//! For each sample point ξ_q of an element, T = J(ξ_q) W_q⁻¹ compares the curved map's
+//! Jacobian J with that of the straight-sided element W (the shape the element should
+//! keep). Its distortion in d dimensions is the inverse mean ratio
+//!
+//! f(T) = |T|²_F / (d · h(det T)^{2/d}),  h(τ) = (τ + √(τ² + 4δ²)) / 2,
+//!
+//! which is 1 for a similarity and grows without bound as det T → 0⁺ when δ = 0 (a
+//! barrier). With δ > 0, h is positive for every τ, so the energy is finite on tangled
+//! elements and its minimum drags det T up through zero (Escobar et al., "Simultaneous
+//! untangling and smoothing of tetrahedral meshes", CMAME 192 (2003) 2775–2787). δ is
+//! chosen from the smallest det T and set to 0 once every sample point is positive, so
+//! that the barrier then keeps them positive while the shape improves.
+//!
+//! The patch of an element is the element and the rings of cells sharing a vertex with it;
+//! its free nodes are the non-boundary nodes whose cells all lie in the patch, so cells
+//! outside it are untouched. Patches that share free nodes are optimised together; separate
+//! ones in parallel, each sequentially, so the result does not depend on the thread count.
+
+mod energy;
+mod optimise;
+mod patch;
+#[cfg(test)]
+mod tests;
+
+pub use energy::{inverse_mean_ratio, DistortionEnergy};
+pub use patch::{untangle, UntangleOptions, UntangleReport};
+
+/// Errors of this crate. Element and node indices are 0-based positions in the mesh.
+#[derive(Debug, thiserror::Error)]
+pub enum UntangleError {
+    /// Measuring the elements failed (unsupported shape, wrong node count...).
+    #[error(transparent)]
+    Quality(#[from] hocurve_quality::QualityError),
+    /// The straight-sided positions do not match the mesh.
+    #[error("{found} straight-sided node positions given for a mesh of {expected} nodes")]
+    StraightNodes {
+        /// Nodes of the mesh.
+        expected: usize,
+        /// Positions given.
+        found: usize,
+    },
+    /// An element asked for does not exist.
+    #[error("element {element} does not exist (the mesh has {count} cells)")]
+    NoSuchElement {
+        /// The index asked for.
+        element: usize,
+        /// Number of cells.
+        count: usize,
+    },
+}

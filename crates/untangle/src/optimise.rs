@@ -1,0 +1,136 @@
+//! Minimisation of a patch's distortion energy: nonlinear conjugate gradients
+//! (Polak–Ribière⁺) with Armijo backtracking, in rounds of fixed regularisation δ.
+
+use crate::energy::DistortionEnergy;
+
+/// det T below which the regularisation stays on: δ² = ε (ε − min det T) (Escobar et al.
+/// 2003), so that δ shrinks as the patch untangles and is 0 once every point has
+/// det T ≥ ε.
+const EPSILON: f64 = 1e-2;
+/// Conjugate-gradient iterations per round of fixed δ.
+const ROUND_ITERATIONS: usize = 60;
+/// A round ends when an iteration lowers the energy by less than this fraction.
+const RELATIVE_DECREASE: f64 = 1e-9;
+
+/// What the minimisation reached.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Outcome {
+    /// Smallest det T at the sample points at the end.
+    pub min_ratio: f64,
+    /// Conjugate-gradient iterations done.
+    pub iterations: usize,
+}
+
+/// Moves `x` (the free nodes) towards a minimum of `energy`, at most `max_iterations`
+/// iterations in all. `length` is the patch's edge length, the scale of the first step.
+pub(crate) fn minimise(
+    energy: &DistortionEnergy<'_>,
+    x: &mut [[f64; 3]],
+    length: f64,
+    max_iterations: usize,
+) -> Outcome {
+    let dim = energy.dim;
+    let n = x.len();
+    let mut iterations = 0;
+    let mut grad = vec![[0.0; 3]; n];
+    let mut trial = vec![[0.0; 3]; n];
+    let mut step = 0.1 * length;
+    let mut last_delta = f64::NAN;
+    while iterations < max_iterations {
+        let min_ratio = energy.evaluate(x, 0.0, None).min_ratio;
+        let delta = if min_ratio < EPSILON {
+            (EPSILON * (EPSILON - min_ratio)).sqrt()
+        } else {
+            0.0
+        };
+        // The same δ as the round before: that round converged, nothing more to gain.
+        if delta == last_delta {
+            break;
+        }
+        last_delta = delta;
+        let mut current = energy.evaluate(x, delta, Some(&mut grad));
+        if !current.energy.is_finite() {
+            break;
+        }
+        let mut direction: Vec<[f64; 3]> = grad.iter().map(neg).collect();
+        let mut previous_grad = grad.clone();
+        let mut round = 0;
+        while round < ROUND_ITERATIONS && iterations < max_iterations {
+            round += 1;
+            iterations += 1;
+            let mut slope = dot(&grad, &direction, dim);
+            if slope >= 0.0 {
+                direction = grad.iter().map(neg).collect();
+                slope = dot(&grad, &direction, dim);
+            }
+            if slope == 0.0 {
+                break;
+            }
+            let longest = direction
+                .iter()
+                .map(|d| norm(d, dim))
+                .fold(0.0f64, f64::max);
+            // Start from twice the last accepted move, never more than 10% of the length.
+            let mut alpha = (2.0 * step).min(0.1 * length) / longest;
+            let mut accepted = None;
+            for _ in 0..50 {
+                for ((t, xi), d) in trial.iter_mut().zip(x.iter()).zip(&direction) {
+                    for k in 0..dim {
+                        t[k] = xi[k] + alpha * d[k];
+                    }
+                    t[dim..].copy_from_slice(&xi[dim..]);
+                }
+                let e = energy.evaluate(&trial, delta, None);
+                if e.energy.is_finite() && e.energy <= current.energy + 1e-4 * alpha * slope {
+                    accepted = Some(e);
+                    break;
+                }
+                alpha *= 0.5;
+            }
+            let Some(_) = accepted else { break };
+            step = alpha * longest;
+            x.copy_from_slice(&trial);
+            previous_grad.copy_from_slice(&grad);
+            let next = energy.evaluate(x, delta, Some(&mut grad));
+            let decrease = current.energy - next.energy;
+            current = next;
+            // Polak–Ribière⁺: β = max(0, gᵀ(g − g_prev) / g_prevᵀ g_prev).
+            let mut num = 0.0;
+            let mut den = 0.0;
+            for (g, gp) in grad.iter().zip(&previous_grad) {
+                for k in 0..dim {
+                    num += g[k] * (g[k] - gp[k]);
+                    den += gp[k] * gp[k];
+                }
+            }
+            let beta = if den > 0.0 { (num / den).max(0.0) } else { 0.0 };
+            for (d, g) in direction.iter_mut().zip(&grad) {
+                for k in 0..dim {
+                    d[k] = -g[k] + beta * d[k];
+                }
+            }
+            if decrease <= RELATIVE_DECREASE * current.energy.abs() {
+                break;
+            }
+        }
+    }
+    Outcome {
+        min_ratio: energy.evaluate(x, 0.0, None).min_ratio,
+        iterations,
+    }
+}
+
+fn neg(g: &[f64; 3]) -> [f64; 3] {
+    [-g[0], -g[1], -g[2]]
+}
+
+fn dot(a: &[[f64; 3]], b: &[[f64; 3]], dim: usize) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(a, b)| (0..dim).map(|k| a[k] * b[k]).sum::<f64>())
+        .sum()
+}
+
+fn norm(a: &[f64; 3], dim: usize) -> f64 {
+    (0..dim).map(|k| a[k] * a[k]).sum::<f64>().sqrt()
+}

@@ -1,0 +1,250 @@
+//! Repairs of tangled meshes, checked by the Bézier certification of hocurve-quality.
+
+use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+use hocurve_nodes::NodeFamily;
+use hocurve_quality::{check_validity, BezierOptions, Validity};
+
+use crate::{untangle, UntangleOptions};
+
+/// The unit square (2D) or cube (3D) cut into n^d boxes, each into 2 triangles or 6
+/// tetrahedra (Kuhn), positively oriented.
+fn box_mesh(dim: usize, n: usize) -> LinearMesh {
+    let m = n + 1;
+    let h = 1.0 / n as f64;
+    let id = |i: usize, j: usize, k: usize| (i + m * (j + m * k)) as u32;
+    let mut vertices = Vec::new();
+    for k in 0..if dim == 3 { m } else { 1 } {
+        for j in 0..m {
+            for i in 0..m {
+                vertices.push([i as f64 * h, j as f64 * h, k as f64 * h]);
+            }
+        }
+    }
+    let mut cells = Vec::new();
+    let axes: Vec<Vec<usize>> = if dim == 3 {
+        vec![
+            vec![0, 1, 2],
+            vec![0, 2, 1],
+            vec![1, 0, 2],
+            vec![1, 2, 0],
+            vec![2, 0, 1],
+            vec![2, 1, 0],
+        ]
+    } else {
+        vec![vec![0, 1], vec![1, 0]]
+    };
+    for k in 0..if dim == 3 { n } else { 1 } {
+        for j in 0..n {
+            for i in 0..n {
+                for perm in &axes {
+                    let mut c = [i, j, k];
+                    let mut ids = vec![id(c[0], c[1], c[2])];
+                    for &a in perm {
+                        c[a] += 1;
+                        ids.push(id(c[0], c[1], c[2]));
+                    }
+                    let p: Vec<[f64; 3]> = ids.iter().map(|&v| vertices[v as usize]).collect();
+                    let e = |a: usize| [p[a][0] - p[0][0], p[a][1] - p[0][1], p[a][2] - p[0][2]];
+                    let volume = if dim == 3 {
+                        let (a, b, c) = (e(1), e(2), e(3));
+                        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+                            + a[2] * (b[0] * c[1] - b[1] * c[0])
+                    } else {
+                        let (a, b) = (e(1), e(2));
+                        a[0] * b[1] - a[1] * b[0]
+                    };
+                    if volume < 0.0 {
+                        ids.swap(1, 2);
+                    }
+                    let kind = if dim == 3 {
+                        ElementType::Tet
+                    } else {
+                        ElementType::Tri
+                    };
+                    cells.push(Element {
+                        kind,
+                        vertices: ids,
+                        entity: 1,
+                    });
+                }
+            }
+        }
+    }
+    LinearMesh {
+        dim,
+        vertices,
+        cells,
+        ..Default::default()
+    }
+}
+
+fn not_valid(mesh: &HighOrderMesh) -> Vec<usize> {
+    check_validity(mesh, &BezierOptions::default())
+        .expect("checkable")
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.validity != Validity::Valid)
+        .map(|(e, _)| e)
+        .collect()
+}
+
+fn boundary(mesh: &HighOrderMesh) -> Vec<u32> {
+    let mut nodes: Vec<u32> = mesh
+        .boundary_facet_nodes()
+        .expect("facets")
+        .into_iter()
+        .flat_map(|(_, n)| n)
+        .collect();
+    nodes.sort_unstable();
+    nodes.dedup();
+    nodes
+}
+
+/// A straight order-`order` mesh and a tangled copy: the vertex nearest `at` dragged to `to`.
+fn tangled(
+    dim: usize,
+    n: usize,
+    order: usize,
+    at: [f64; 3],
+    to: [f64; 3],
+) -> (HighOrderMesh, Vec<[f64; 3]>) {
+    let linear = box_mesh(dim, n);
+    let mesh = HighOrderMesh::from_linear(&linear, order, NodeFamily::Equispaced).expect("mesh");
+    let straight = mesh.nodes.clone();
+    let mut tangled = mesh;
+    let v = (0..linear.vertices.len())
+        .min_by(|&a, &b| {
+            let d = |v: usize| {
+                (0..3)
+                    .map(|k| (linear.vertices[v][k] - at[k]).powi(2))
+                    .sum::<f64>()
+            };
+            d(a).total_cmp(&d(b))
+        })
+        .expect("vertices");
+    tangled.nodes[v] = to;
+    (tangled, straight)
+}
+
+#[test]
+fn a_dragged_interior_vertex_is_untangled_in_2d_and_3d() {
+    for (dim, order) in [(2, 2), (2, 4), (3, 2), (3, 3)] {
+        let to = if dim == 2 {
+            [0.93, 0.4, 0.0]
+        } else {
+            [0.93, 0.4, 0.55]
+        };
+        let (mut mesh, straight) = tangled(
+            dim,
+            2,
+            order,
+            [0.5, 0.5, if dim == 3 { 0.5 } else { 0.0 }],
+            to,
+        );
+        let bad = not_valid(&mesh);
+        assert!(
+            !bad.is_empty(),
+            "dim {dim} p {order}: the test mesh must be tangled"
+        );
+        let fixed = boundary(&mesh);
+        let before = mesh.nodes.clone();
+        let report = untangle(
+            &mut mesh,
+            &straight,
+            &bad,
+            &fixed,
+            &UntangleOptions::default(),
+        )
+        .expect("untangle");
+        assert!(report.min_ratio > 0.0, "dim {dim} p {order}: {report:?}");
+        assert_eq!(
+            not_valid(&mesh),
+            Vec::<usize>::new(),
+            "dim {dim} p {order}: {report:?}"
+        );
+        for &n in &fixed {
+            assert_eq!(
+                mesh.nodes[n as usize], before[n as usize],
+                "boundary node {n} moved"
+            );
+        }
+    }
+}
+
+#[test]
+fn only_nodes_whose_cells_are_all_in_the_patch_move() {
+    // A 4×4 grid of squares; the vertex at (0.25, 0.25) is dragged across its neighbours.
+    let (mut mesh, straight) = tangled(2, 4, 3, [0.25, 0.25, 0.0], [0.45, 0.3, 0.0]);
+    let bad = not_valid(&mesh);
+    assert!(!bad.is_empty());
+    let before = mesh.nodes.clone();
+    let fixed = boundary(&mesh);
+    let options = UntangleOptions {
+        rings: 1,
+        ..Default::default()
+    };
+    untangle(&mut mesh, &straight, &bad, &fixed, &options).expect("untangle");
+    assert!(not_valid(&mesh).is_empty());
+    // The patch: the bad cells and every cell sharing a vertex with one. No node of a
+    // cell outside it moves.
+    let vertices_of = |c: usize| mesh.cells[c].nodes[..3].to_vec();
+    let near: Vec<u32> = bad.iter().flat_map(|&c| vertices_of(c)).collect();
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        if vertices_of(c).iter().any(|v| near.contains(v)) {
+            continue;
+        }
+        for &n in &cell.nodes {
+            assert_eq!(
+                mesh.nodes[n as usize], before[n as usize],
+                "cell {c} node {n}"
+            );
+        }
+    }
+    let moved = mesh
+        .nodes
+        .iter()
+        .zip(&before)
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(moved > 0);
+}
+
+#[test]
+fn the_result_does_not_depend_on_the_thread_count() {
+    let run = |threads: usize| {
+        let (mut mesh, straight) = tangled(3, 2, 2, [0.5, 0.5, 0.5], [0.9, 0.45, 0.5]);
+        let bad = not_valid(&mesh);
+        let fixed = boundary(&mesh);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .expect("pool");
+        pool.install(|| {
+            untangle(
+                &mut mesh,
+                &straight,
+                &bad,
+                &fixed,
+                &UntangleOptions::default(),
+            )
+        })
+        .expect("untangle");
+        mesh.nodes
+    };
+    let one = run(1);
+    let two = run(2);
+    assert!(one
+        .iter()
+        .zip(&two)
+        .all(|(a, b)| a.iter().zip(b).all(|(x, y)| x.to_bits() == y.to_bits())));
+}
+
+#[test]
+fn bad_arguments_are_errors() {
+    let (mut mesh, straight) = tangled(2, 2, 2, [0.5, 0.5, 0.0], [0.9, 0.4, 0.0]);
+    let options = UntangleOptions::default();
+    assert!(untangle(&mut mesh, &straight[1..], &[0], &[], &options).is_err());
+    assert!(untangle(&mut mesh, &straight, &[10_000], &[], &options).is_err());
+    let report = untangle(&mut mesh, &straight, &[], &[], &options).expect("nothing to do");
+    assert_eq!(report.patches, 0);
+}
