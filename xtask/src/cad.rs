@@ -9,7 +9,8 @@
 //!   of Fig. 4 must not make things worse).
 //!
 //! `verify` runs the sphere families (poles and seams of OpenCASCADE's sphere, JSON and
-//! IGES geometry) and the coarse boundary-layer tets (stretch 260); `verify --full` adds
+//! IGES geometry), the coarse boundary-layer tets (stretch 260) and the thin layers on a
+//! very coarse sphere, which only the repair (untangling) makes valid; `verify --full` adds
 //! the finer boundary layer (stretch 288) and the wing body (trimmed B-spline faces in
 //! IGES); both take minutes per order.
 
@@ -28,7 +29,7 @@ struct Case {
     full_only: bool,
 }
 
-const CASES: [Case; 7] = [
+const CASES: [Case; 8] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -55,6 +56,12 @@ const CASES: [Case; 7] = [
     },
     Case {
         name: "sphere_layers_coarse",
+        geometry: "json",
+        group: "sphere",
+        full_only: false,
+    },
+    Case {
+        name: "sphere_layers_thin",
         geometry: "json",
         group: "sphere",
         full_only: false,

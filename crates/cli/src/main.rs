@@ -772,6 +772,15 @@ fn print_summary_table(curved: &CurvedMesh, out: &Path) {
         },
     ));
     rows.push(("invalid elements", r.invalid_elements.to_string()));
+    if r.untangle_rounds > 0 {
+        rows.push((
+            "repair",
+            format!(
+                "{} element(s) not certified after the elastic solve; their patches untangled in {} round(s)",
+                r.untangled_elements, r.untangle_rounds
+            ),
+        ));
+    }
     rows.push((
         "certified valid",
         match (r.certified_valid_elements, r.undecided_elements) {
@@ -785,8 +794,8 @@ fn print_summary_table(curved: &CurvedMesh, out: &Path) {
     rows.push((
         "time (s)",
         format!(
-            "read {:.2}, nodes {:.2}, association {:.2}, boundary {:.2}, assembly {:.2}, solve {:.2}, quality {:.2}, write {:.2}; total {:.2}",
-            t.read, t.high_order_nodes, t.association, t.boundary_nodes, t.assembly, t.solve, t.quality, t.write, t.total
+            "read {:.2}, nodes {:.2}, association {:.2}, boundary {:.2}, assembly {:.2}, solve {:.2}, quality {:.2}, repair {:.2}, write {:.2}; total {:.2}",
+            t.read, t.high_order_nodes, t.association, t.boundary_nodes, t.assembly, t.solve, t.quality, t.repair, t.write, t.total
         ),
     ));
     let width = rows.iter().map(|(k, _)| k.len()).max().unwrap_or(0);

@@ -1,6 +1,7 @@
 //! The distortion energy of a patch and its gradient with respect to the free nodes.
 
 use hocurve_quality::JacobianSampler;
+use rayon::prelude::*;
 
 /// A 3×3 matrix (rows); in 2D only the leading 2×2 block is used.
 pub(crate) type Mat = [[f64; 3]; 3];
@@ -135,62 +136,108 @@ impl DistortionEnergy<'_> {
         &self,
         x: &[[f64; 3]],
         delta: f64,
-        mut grad: Option<&mut [[f64; 3]]>,
+        grad: Option<&mut [[f64; 3]]>,
     ) -> Evaluation {
-        let dim = self.dim;
-        if let Some(g) = grad.as_deref_mut() {
-            g.fill([0.0; 3]);
-        }
+        let with_gradient = grad.is_some();
+        // Cells in parallel, summed in cell order: the same bits for any thread count.
+        let terms: Vec<CellEvaluation> = self
+            .cells
+            .par_iter()
+            .map(|cell| self.cell(cell, x, delta, with_gradient))
+            .collect();
         let mut energy = 0.0;
         let mut min_ratio = f64::INFINITY;
-        let mut coords: Vec<[f64; 3]> = Vec::new();
-        for cell in &self.cells {
-            let sampler = &self.samplers[cell.sampler];
-            coords.clear();
-            coords.extend(cell.nodes.iter().map(|s| match *s {
-                Slot::Free(v) => x[v as usize],
-                Slot::Fixed(p) => p,
-            }));
-            for (q, w_inv) in cell.ideal_inverse.iter().enumerate() {
-                let Some(w_inv) = w_inv else { continue };
-                let mut j = [[0.0; 3]; 3];
-                for (i, xi) in coords.iter().enumerate() {
-                    let g = sampler.gradient(i, q);
-                    for d in 0..dim {
-                        for k in 0..dim {
-                            j[d][k] += xi[d] * g[k];
+        for t in &terms {
+            energy += t.energy;
+            min_ratio = min_ratio.min(t.min_ratio);
+        }
+        if let Some(g_out) = grad {
+            g_out.fill([0.0; 3]);
+            for (cell, t) in self.cells.iter().zip(&terms) {
+                for (slot, g) in cell.nodes.iter().zip(&t.gradient) {
+                    if let Slot::Free(v) = *slot {
+                        for d in 0..3 {
+                            g_out[v as usize][d] += g[d];
                         }
-                    }
-                }
-                let t = mul(&j, w_inv, dim);
-                min_ratio = min_ratio.min(det(&t, dim));
-                let Some((f, df_dt)) = inverse_mean_ratio(&t, dim, delta) else {
-                    energy = f64::INFINITY;
-                    continue;
-                };
-                energy += f;
-                let Some(g_out) = grad.as_deref_mut() else {
-                    continue;
-                };
-                // ∂f/∂J = ∂f/∂T · W⁻ᵀ; ∂f/∂x_i[d] = Σ_k (∂f/∂J)[d][k] ∇Φ_i[k].
-                let mut df_dj = [[0.0; 3]; 3];
-                for d in 0..dim {
-                    for k in 0..dim {
-                        df_dj[d][k] = (0..dim).map(|m| df_dt[d][m] * w_inv[k][m]).sum();
-                    }
-                }
-                for (i, slot) in cell.nodes.iter().enumerate() {
-                    let Slot::Free(v) = *slot else { continue };
-                    let g = sampler.gradient(i, q);
-                    let out = &mut g_out[v as usize];
-                    for d in 0..dim {
-                        out[d] += (0..dim).map(|k| df_dj[d][k] * g[k]).sum::<f64>();
                     }
                 }
             }
         }
         Evaluation { energy, min_ratio }
     }
+
+    /// One cell's energy, smallest det T, and gradient with respect to its nodes (empty
+    /// unless asked for).
+    fn cell(
+        &self,
+        cell: &CellTerm,
+        x: &[[f64; 3]],
+        delta: f64,
+        with_gradient: bool,
+    ) -> CellEvaluation {
+        let dim = self.dim;
+        let sampler = &self.samplers[cell.sampler];
+        let coords: Vec<[f64; 3]> = cell
+            .nodes
+            .iter()
+            .map(|s| match *s {
+                Slot::Free(v) => x[v as usize],
+                Slot::Fixed(p) => p,
+            })
+            .collect();
+        let mut out = CellEvaluation {
+            energy: 0.0,
+            min_ratio: f64::INFINITY,
+            gradient: if with_gradient {
+                vec![[0.0; 3]; coords.len()]
+            } else {
+                Vec::new()
+            },
+        };
+        for (q, w_inv) in cell.ideal_inverse.iter().enumerate() {
+            let Some(w_inv) = w_inv else { continue };
+            let mut j = [[0.0; 3]; 3];
+            for (i, xi) in coords.iter().enumerate() {
+                let g = sampler.gradient(i, q);
+                for d in 0..dim {
+                    for k in 0..dim {
+                        j[d][k] += xi[d] * g[k];
+                    }
+                }
+            }
+            let t = mul(&j, w_inv, dim);
+            out.min_ratio = out.min_ratio.min(det(&t, dim));
+            let Some((f, df_dt)) = inverse_mean_ratio(&t, dim, delta) else {
+                out.energy = f64::INFINITY;
+                continue;
+            };
+            out.energy += f;
+            if !with_gradient {
+                continue;
+            }
+            // ∂f/∂J = ∂f/∂T · W⁻ᵀ; ∂f/∂x_i[d] = Σ_k (∂f/∂J)[d][k] ∇Φ_i[k].
+            let mut df_dj = [[0.0; 3]; 3];
+            for d in 0..dim {
+                for k in 0..dim {
+                    df_dj[d][k] = (0..dim).map(|m| df_dt[d][m] * w_inv[k][m]).sum();
+                }
+            }
+            for (i, gi) in out.gradient.iter_mut().enumerate() {
+                let g = sampler.gradient(i, q);
+                for d in 0..dim {
+                    gi[d] += (0..dim).map(|k| df_dj[d][k] * g[k]).sum::<f64>();
+                }
+            }
+        }
+        out
+    }
+}
+
+/// One cell's share of an [`Evaluation`].
+struct CellEvaluation {
+    energy: f64,
+    min_ratio: f64,
+    gradient: Vec<[f64; 3]>,
 }
 
 /// The leading dim×dim block of a·b.

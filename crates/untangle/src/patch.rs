@@ -216,8 +216,9 @@ fn components(mesh: &HighOrderMesh, in_patch: &[bool], free: &[bool]) -> Vec<Vec
 }
 
 /// One sampler per shape among the cells to optimise: det J at the Bernstein lattice of
-/// det J (which includes the vertices and edges, where inversions start) and at the
-/// degree-2p quadrature points.
+/// det J (the points whose values fix the polynomial det J, vertices and edges included,
+/// where inversions start), or, where that lattice is too large, at the degree-2p
+/// quadrature points and the nodes.
 fn samplers(
     mesh: &HighOrderMesh,
     components: &[Vec<usize>],
@@ -236,11 +237,12 @@ fn samplers(
     shapes
         .into_iter()
         .map(|shape| {
-            let mut points = QuadratureRule::new(shape, 2 * mesh.order).points;
             let lattice = BernsteinSpace::for_jacobian(shape, mesh.order)?;
+            let mut points = Vec::new();
             if lattice.len() <= MAX_LATTICE_POINTS {
                 points.extend_from_slice(lattice.points());
             } else {
+                points = QuadratureRule::new(shape, 2 * mesh.order).points;
                 points.extend_from_slice(
                     hocurve_nodes::ReferenceNodes::try_new(shape, mesh.order, mesh.family)
                         .map_err(hocurve_quality::QualityError::from)?
