@@ -742,32 +742,16 @@ fn harmful_corrections(
     out
 }
 
-/// Highest order at which meshes with quadrilaterals, hexahedra or prisms are certified by
-/// default; triangles and tetrahedra are certified at every order. Measured (release, 2
-/// cores): the Bézier check takes 0.24 s on the p = 4 sphere (5695 tets), 2.3 s and 9.8 s on
-/// a 1493-tet sphere at p = 7 and 8 (its elastic solve: 20 s and 55 s), 1.2 s on a hybrid
-/// hex/prism mesh at p = 5 (426 cells), but over a minute on that mesh at p = 6: the
-/// re-sampling of det J on subdivided tensor-product regions costs O(n²) per lattice point
-/// (343 nodes, 5832 lattice points per region). Above this order such meshes are reported
-/// as not certified, and `hocurve curve` refuses to write them without `--no-certify`.
-pub const CERTIFY_MAX_ORDER: usize = 5;
-
 /// [`assess`] with the Bézier validity check when `options.certify` asks for it and the
-/// mesh's order supports it (else without: the report then says "not certified").
+/// mesh's order supports it (see [`hocurve_quality::bezier_check_supported`]; else without:
+/// the report then says "not certified"). Measured (release, 2 cores): 0.24 s on the p = 4
+/// sphere (5695 tets), 2.3 s and 9.8 s on a 1493-tet sphere at p = 7 and 8 (its elastic
+/// solve: 20 s and 55 s), 0.31 s on a hybrid hex/prism mesh at p = 5 (426 cells).
 fn assess_certified(
     mesh: &HighOrderMesh,
     options: &CurveOptions,
 ) -> Result<MeshQuality, QualityError> {
-    let tensor_cells = mesh.cells.iter().any(|c| {
-        !matches!(
-            c.kind.shape(),
-            Ok(hocurve_nodes::Shape::Tri | hocurve_nodes::Shape::Tet)
-        )
-    });
-    if !options.certify
-        || options.quality.bezier.is_some()
-        || (tensor_cells && mesh.order > CERTIFY_MAX_ORDER)
-    {
+    if !options.certify || options.quality.bezier.is_some() {
         return assess(mesh, &options.quality);
     }
     let certified = QualityOptions {

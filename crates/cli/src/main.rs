@@ -445,25 +445,23 @@ fn finish(
     output: &OutputArgs,
 ) -> Result<()> {
     check_memory(linear, options.order, ignore_memory)?;
-    let tensor_cells = linear.cells.iter().any(|c| {
-        !matches!(
-            c.kind,
-            hocurve_mesh::ElementType::Tri | hocurve_mesh::ElementType::Tet
-        )
-    });
     // Straight-sided elements are the input's own map at a higher order: only curved
     // meshes need the check to be run before they are trusted.
     let curved_run = geometry.is_some();
-    if curved_run
-        && options.certify
-        && tensor_cells
-        && options.order > hocurve::pipeline::CERTIFY_MAX_ORDER
-        && !output.allow_invalid
-    {
+    let uncheckable: Vec<&str> = linear
+        .cells
+        .iter()
+        .filter_map(|c| c.kind.shape().ok())
+        .filter(|&s| !hocurve_quality::bezier_check_supported(s, options.order))
+        .map(|s| s.name())
+        .collect::<std::collections::BTreeSet<_>>()
+        .into_iter()
+        .collect();
+    if curved_run && options.certify && !uncheckable.is_empty() && !output.allow_invalid {
         bail!(
-            "order {} cannot be certified valid: the Bézier check does not run on quadrilaterals, hexahedra or prisms above order {} (too slow for now); --no-certify curves and writes the mesh uncertified",
+            "order {} cannot be certified valid: the Bézier check does not support {} at this order (det J's Bernstein form is too large); --no-certify curves and writes the mesh uncertified",
             options.order,
-            hocurve::pipeline::CERTIFY_MAX_ORDER
+            uncheckable.join(", ")
         );
     }
     let start = Instant::now();
@@ -498,8 +496,7 @@ fn finish(
         && !output.allow_invalid
     {
         bail!(
-            "validity not certified: the Bézier check does not run on quadrilaterals, hexahedra or prisms above order {} (too slow for now); nothing written (--no-certify writes the mesh uncertified)",
-            hocurve::pipeline::CERTIFY_MAX_ORDER
+            "validity not certified: the Bézier check does not support this order; nothing written (--no-certify writes the mesh uncertified)"
         );
     }
     if !failures.is_empty() && !output.allow_invalid {

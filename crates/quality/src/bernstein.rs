@@ -39,6 +39,26 @@ pub struct BernsteinSpace {
     inverse_norm: f64,
 }
 
+/// Exact subdivision of the Bernstein form on the shapes with a product structure
+/// (quadrilateral, hexahedron, prism): the coefficients of f∘A on each child A of one
+/// refinement, from those of f, without sampling. Each child's map is a product of one
+/// sub-element per factor (a half of [0, 1]; one of the 4 midpoint triangles), so its
+/// subdivision matrix is the Kronecker product of one matrix per factor, applied one factor
+/// at a time like the conversion. The factor matrices come from the blossom (de Casteljau
+/// with the child's vertices as arguments): their entries are non-negative, each row sums
+/// to 1, and with midpoint children they are dyadic rationals times binomials, exact in
+/// f64 at the degrees allowed here, so a subdivision adds rounding of at most (m ε) · max|c|
+/// per factor of length m and never amplifies errors.
+#[derive(Debug, Clone)]
+pub struct BernsteinSubdivision {
+    /// Per child: per factor, (storage axis, row-major m×m matrix index into `matrices`).
+    children: Vec<Vec<(usize, usize)>>,
+    matrices: Vec<Vec<f64>>,
+    dims: [usize; 3],
+    /// Storage positions of the coefficients at the vertices (the values there).
+    vertices: Vec<usize>,
+}
+
 /// Multi-indices, lattice points and basis weights of a space, without the conversion.
 #[derive(Debug, Clone)]
 struct Lattice {
@@ -161,30 +181,94 @@ impl BernsteinSpace {
     /// Replaces the values f(ξ_α) at the lattice points in `values` by the Bernstein
     /// coefficients of the interpolating polynomial (`tmp` is scratch memory).
     pub fn values_to_coefficients(&self, values: &mut [f64], tmp: &mut Vec<f64>) {
-        let dims = self.lattice.dims;
         for (axis, matrix) in &self.factors {
-            let m = dims[*axis];
-            let stride: usize = dims[..*axis].iter().product();
-            let outer = values.len() / (m * stride);
-            tmp.clear();
-            tmp.resize(2 * m, 0.0);
-            let (fiber, image) = tmp.split_at_mut(m);
-            for o in 0..outer {
-                for s in 0..stride {
-                    let base = o * m * stride + s;
-                    for r in 0..m {
-                        fiber[r] = values[base + r * stride];
+            apply_along_axis(matrix, self.lattice.dims, *axis, values, tmp);
+        }
+    }
+
+    /// The exact subdivision of this space into the children of one midpoint refinement
+    /// (2^d boxes; for the prism the 4 midpoint triangles times the 2 halves in ζ, triangle
+    /// children in the order of [`crate::validity`]'s refinement), or None for simplices and
+    /// the line, whose dense subdivision matrices would be large (the validity check samples
+    /// det J on their sub-elements instead).
+    pub fn subdivision(&self) -> Option<BernsteinSubdivision> {
+        let lattice = &self.lattice;
+        let line = |n: usize| -> Vec<Vec<usize>> { (0..=n).map(|i| vec![n - i, i, 0]).collect() };
+        let halves = [
+            [[1.0, 0.0, 0.0], [0.5, 0.5, 0.0], [0.0, 0.0, 1.0]],
+            [[0.5, 0.5, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+        ];
+        let mut matrices = Vec::new();
+        let mut children = Vec::new();
+        match lattice.shape {
+            Shape::Quad | Shape::Hex => {
+                let axes = lattice.shape.dim();
+                let exponents = line(lattice.degree);
+                for w in &halves {
+                    matrices.push(subdivision_matrix(&exponents, lattice.degree, w));
+                }
+                for c in 0..1usize << axes {
+                    children.push((0..axes).map(|k| (k, c >> k & 1)).collect());
+                }
+            }
+            Shape::Prism => {
+                let (n, nz) = (lattice.degree, lattice.degree_z);
+                let mut triangle = Vec::new();
+                for j in 0..=n {
+                    for i in 0..=n - j {
+                        triangle.push(vec![n - i - j, i, j]);
                     }
-                    for (r, out) in image.iter_mut().enumerate() {
-                        let row = &matrix[r * m..(r + 1) * m];
-                        *out = row.iter().zip(fiber.iter()).map(|(a, b)| a * b).sum();
-                    }
-                    for r in 0..m {
-                        values[base + r * stride] = image[r];
+                }
+                let (v0, v1, v2) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]);
+                let (m01, m12, m02) = ([0.5, 0.5, 0.0], [0.0, 0.5, 0.5], [0.5, 0.0, 0.5]);
+                // The midpoint triangles, as barycentric vertices (same order as the
+                // affine refinement of the validity check).
+                let quarter = [
+                    [v0, m01, m02],
+                    [m01, v1, m12],
+                    [m02, m12, v2],
+                    [m12, m02, m01],
+                ];
+                for w in &quarter {
+                    matrices.push(subdivision_matrix(&triangle, n, w));
+                }
+                let z = line(nz);
+                for w in &halves {
+                    matrices.push(subdivision_matrix(&z, nz, w));
+                }
+                for half in 0..2 {
+                    for t in 0..4 {
+                        children.push(vec![(0, t), (1, 4 + half)]);
                     }
                 }
             }
+            Shape::Line | Shape::Tri | Shape::Tet => return None,
         }
+        // A coefficient sits at a vertex when, in every group of coordinates, one
+        // exponent carries the whole degree.
+        let groups: &[(usize, usize)] = match lattice.shape {
+            Shape::Quad => &[(0, 2), (2, 4)],
+            Shape::Hex => &[(0, 2), (2, 4), (4, 6)],
+            _ => &[(0, 3), (3, 5)],
+        };
+        let vertices = lattice
+            .exponents
+            .iter()
+            .enumerate()
+            .filter(|(_, ex)| {
+                groups.iter().all(|&(a, b)| {
+                    let total: usize = ex[a..b].iter().map(|&e| e as usize).sum();
+                    ex[a..b].iter().any(|&e| e as usize == total)
+                })
+            })
+            .map(|(i, _)| i)
+            .collect();
+        Some(BernsteinSubdivision {
+            children,
+            matrices,
+            dims: lattice.dims,
+            vertices,
+        })
     }
 
     /// Σ_α c_α B_α(ξ): the polynomial with Bernstein coefficients `coefficients` at ξ.
@@ -193,6 +277,118 @@ impl BernsteinSpace {
         self.lattice.basis_values(xi, &mut basis);
         basis.iter().zip(coefficients).map(|(b, c)| b * c).sum()
     }
+}
+
+impl BernsteinSubdivision {
+    /// Number of children of one refinement.
+    pub fn len(&self) -> usize {
+        self.children.len()
+    }
+
+    /// Never true.
+    pub fn is_empty(&self) -> bool {
+        self.children.is_empty()
+    }
+
+    /// Storage positions of the vertex coefficients (the polynomial's values there).
+    pub fn vertices(&self) -> &[usize] {
+        &self.vertices
+    }
+
+    /// The longest factor (m in the rounding bound m ε max|c| per factor).
+    pub fn longest_factor(&self) -> usize {
+        self.dims.iter().copied().max().unwrap_or(1)
+    }
+
+    /// Number of factors applied per subdivision.
+    pub fn factors(&self) -> usize {
+        self.children.first().map_or(0, Vec::len)
+    }
+
+    /// The coefficients of child `child` into `out`, from the parent's `coefficients`
+    /// (`tmp` is scratch memory).
+    pub fn child(
+        &self,
+        child: usize,
+        coefficients: &[f64],
+        out: &mut Vec<f64>,
+        tmp: &mut Vec<f64>,
+    ) {
+        out.clear();
+        out.extend_from_slice(coefficients);
+        for &(axis, matrix) in &self.children[child] {
+            apply_along_axis(&self.matrices[matrix], self.dims, axis, out, tmp);
+        }
+    }
+}
+
+/// Replaces every fiber of `values` along storage axis `axis` by its image under the
+/// row-major m×m `matrix` (m = dims[axis]).
+pub(crate) fn apply_along_axis(
+    matrix: &[f64],
+    dims: [usize; 3],
+    axis: usize,
+    values: &mut [f64],
+    tmp: &mut Vec<f64>,
+) {
+    let m = dims[axis];
+    let stride: usize = dims[..axis].iter().product();
+    let outer = values.len() / (m * stride);
+    tmp.clear();
+    tmp.resize(2 * m, 0.0);
+    let (fiber, image) = tmp.split_at_mut(m);
+    for o in 0..outer {
+        for s in 0..stride {
+            let base = o * m * stride + s;
+            for r in 0..m {
+                fiber[r] = values[base + r * stride];
+            }
+            for (r, out) in image.iter_mut().enumerate() {
+                let row = &matrix[r * m..(r + 1) * m];
+                *out = row.iter().zip(fiber.iter()).map(|(a, b)| a * b).sum();
+            }
+            for r in 0..m {
+                values[base + r * stride] = image[r];
+            }
+        }
+    }
+}
+
+/// The row-major matrix S with d = S c, where c are the Bernstein coefficients (degree n,
+/// multi-indices `exponents` over 2 or 3 barycentric coordinates, the third 0 for a line)
+/// of f and d those of f on the sub-simplex with barycentric vertices `w`:
+/// d_β = blossom(w₀^β₀, w₁^β₁, w₂^β₂), computed by de Casteljau steps on each unit c.
+fn subdivision_matrix(exponents: &[Vec<usize>], n: usize, w: &[[f64; 3]; 3]) -> Vec<f64> {
+    let m = exponents.len();
+    let mut s = vec![0.0; m * m];
+    // A net of total degree r stored as net[b · (n + 1) + c] (a = r − b − c).
+    let side = n + 1;
+    let mut net = vec![0.0; side * side];
+    let mut next = vec![0.0; side * side];
+    for (col, alpha) in exponents.iter().enumerate() {
+        for (row, beta) in exponents.iter().enumerate() {
+            net.fill(0.0);
+            net[alpha[1] * side + alpha[2]] = 1.0;
+            let mut r = n;
+            for (k, &count) in beta.iter().enumerate() {
+                let u = w[k];
+                for _ in 0..count {
+                    // One de Casteljau step with argument u: degree r → r − 1.
+                    for b in 0..r {
+                        for c in 0..r - b {
+                            next[b * side + c] = u[0] * net[b * side + c]
+                                + u[1] * net[(b + 1) * side + c]
+                                + u[2] * net[b * side + c + 1];
+                        }
+                    }
+                    std::mem::swap(&mut net, &mut next);
+                    r -= 1;
+                }
+            }
+            s[row * m + col] = net[0];
+        }
+    }
+    s
 }
 
 /// Degree of det J for order-p isoparametric elements, as (degree, degree_z):
@@ -218,6 +414,18 @@ pub fn jacobian_degree(shape: Shape, order: usize) -> (usize, usize) {
         Shape::Prism => return ((3 * p).saturating_sub(2), (3 * p).saturating_sub(1)),
     };
     (d, d)
+}
+
+/// Whether the Bézier validity check supports order-`order` elements of `shape` (det J's
+/// Bernstein space within [`MAX_LINE_DEGREE`] per variable and [`MAX_DENSE_COEFFICIENTS`]
+/// per simplex factor): tetrahedra up to p = 8, hexahedra up to p = 13, for example.
+pub fn bezier_check_supported(shape: Shape, order: usize) -> bool {
+    let (degree, degree_z) = jacobian_degree(shape, order);
+    match shape {
+        Shape::Tri | Shape::Tet => degree <= max_dense_degree(shape),
+        Shape::Prism => degree <= max_dense_degree(Shape::Tri) && degree_z <= MAX_LINE_DEGREE,
+        Shape::Line | Shape::Quad | Shape::Hex => degree <= MAX_LINE_DEGREE,
+    }
 }
 
 /// Largest total degree whose dense factor fits [`MAX_DENSE_COEFFICIENTS`].

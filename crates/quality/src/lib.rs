@@ -29,6 +29,7 @@
 
 mod assessment;
 mod bernstein;
+mod bezier_map;
 mod error;
 mod jacobian;
 mod plot;
@@ -40,7 +41,10 @@ mod test_meshes;
 mod validity;
 
 pub use assessment::{assess, MeshQuality, QualityOptions};
-pub use bernstein::{jacobian_degree, BernsteinSpace, MAX_DENSE_COEFFICIENTS, MAX_LINE_DEGREE};
+pub use bernstein::{
+    bezier_check_supported, jacobian_degree, BernsteinSpace, BernsteinSubdivision,
+    MAX_DENSE_COEFFICIENTS, MAX_LINE_DEGREE,
+};
 pub use error::QualityError;
 pub use jacobian::{
     jacobian_determinants, scaled_jacobian, scaled_ratio, JacobianSampler, JacobianWorkspace,

@@ -43,9 +43,9 @@ pub(crate) fn minimise(
         } else {
             0.0
         };
-        // δ as in the round before (to 1 %): that round converged and did not move the
+        // δ as in the round before (to 0.1 %): that round converged and did not move the
         // worst point, so another round would find the same minimum.
-        if delta == last_delta || (delta - last_delta).abs() <= 1e-2 * last_delta {
+        if delta == last_delta || (delta - last_delta).abs() <= 1e-3 * last_delta {
             break;
         }
         last_delta = delta;

@@ -83,3 +83,110 @@ fn jacobian_degrees_follow_the_derivation() {
         Err(QualityError::UnsupportedBezierDegree { degree: 27, .. })
     ));
 }
+
+/// The children of one refinement as maps η ↦ ξ (boxes: halves per axis; prism: midpoint
+/// triangles times ζ halves, in the order of `BernsteinSpace::subdivision`).
+fn child_map(shape: Shape, child: usize, eta: [f64; 3]) -> [f64; 3] {
+    match shape {
+        Shape::Quad | Shape::Hex => {
+            let mut xi = [0.0; 3];
+            for k in 0..shape.dim() {
+                xi[k] = 0.5 * eta[k] + 0.5 * (child >> k & 1) as f64;
+            }
+            xi
+        }
+        _ => {
+            let (t, half) = (child % 4, child / 4);
+            let v = [[0.0, 0.0], [1.0, 0.0], [0.0, 1.0]];
+            let m = |a: usize, b: usize| [0.5 * (v[a][0] + v[b][0]), 0.5 * (v[a][1] + v[b][1])];
+            let w = [
+                [v[0], m(0, 1), m(0, 2)],
+                [m(0, 1), v[1], m(1, 2)],
+                [m(0, 2), m(1, 2), v[2]],
+                [m(1, 2), m(0, 2), m(0, 1)],
+            ][t];
+            let (l1, l2) = (eta[0], eta[1]);
+            let l0 = 1.0 - l1 - l2;
+            [
+                l0 * w[0][0] + l1 * w[1][0] + l2 * w[2][0],
+                l0 * w[0][1] + l1 * w[1][1] + l2 * w[2][1],
+                0.5 * eta[2] + 0.5 * half as f64,
+            ]
+        }
+    }
+}
+
+#[test]
+fn subdivision_gives_the_coefficients_of_the_polynomial_on_each_child() {
+    for shape in [Shape::Quad, Shape::Hex, Shape::Prism] {
+        for degree in [1, 3, 8] {
+            let degree_z = degree + 1;
+            let space = BernsteinSpace::new(shape, degree, degree_z).unwrap();
+            let sub = space.subdivision().expect("product shape");
+            assert_eq!(sub.len(), if shape == Shape::Quad { 4 } else { 8 });
+            let mut c: Vec<f64> = space
+                .points()
+                .iter()
+                .map(|&x| monomial_test(shape, degree, degree_z, x))
+                .collect();
+            let mut tmp = Vec::new();
+            space.values_to_coefficients(&mut c, &mut tmp);
+            let mut d = Vec::new();
+            for child in 0..sub.len() {
+                sub.child(child, &c, &mut d, &mut tmp);
+                for k in 0..15 {
+                    let s = k as f64 / 15.0;
+                    let eta = [0.6 * s, 0.35 * (1.0 - s), 0.2 + 0.7 * s];
+                    let eta = if shape.dim() == 2 {
+                        [eta[0], eta[1], 0.0]
+                    } else {
+                        eta
+                    };
+                    let exact =
+                        monomial_test(shape, degree, degree_z, child_map(shape, child, eta));
+                    let got = space.eval(&d, eta);
+                    assert!(
+                        (got - exact).abs() <= 1e-9 * (1.0 + exact.abs()),
+                        "{shape:?} degree {degree} child {child} at {eta:?}: {got} vs {exact}"
+                    );
+                }
+                // Vertex coefficients are the values at the child's vertices.
+                for &v in sub.vertices() {
+                    let exact = monomial_test(
+                        shape,
+                        degree,
+                        degree_z,
+                        child_map(shape, child, space.points()[v]),
+                    );
+                    assert!((d[v] - exact).abs() <= 1e-9 * (1.0 + exact.abs()));
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn subdivision_rows_are_convex_combinations() {
+    // Non-negative weights summing to one: a subdivision cannot amplify rounding errors.
+    for shape in [Shape::Quad, Shape::Hex, Shape::Prism] {
+        let space = BernsteinSpace::for_jacobian(shape, 4).unwrap();
+        let sub = space.subdivision().expect("product shape");
+        let mut tmp = Vec::new();
+        let mut d = Vec::new();
+        let ones = vec![1.0; space.len()];
+        for child in 0..sub.len() {
+            sub.child(child, &ones, &mut d, &mut tmp);
+            assert!(
+                d.iter().all(|&v| (v - 1.0).abs() < 1e-13),
+                "{shape:?} child {child}"
+            );
+        }
+        for m in &sub.matrices {
+            assert!(m.iter().all(|&v| v >= 0.0), "{shape:?}: negative weight");
+        }
+    }
+    assert!(BernsteinSpace::for_jacobian(Shape::Tet, 2)
+        .unwrap()
+        .subdivision()
+        .is_none());
+}
