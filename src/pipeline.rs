@@ -258,6 +258,9 @@ pub struct CurveReport {
     /// Interior edges split before curving (the input cells holding them had two facets on
     /// one curved entity, which curving would open to a 180° corner with det J = 0).
     pub edges_split: usize,
+    /// Quadrilaterals split into two triangles before curving (two of their edges, meeting
+    /// at a corner, lay on one curved entity: curved, that corner opens to 180°).
+    pub quadrilaterals_split: usize,
     /// Tags of the input nodes no cell uses, left out of the curved mesh.
     pub unused_node_tags: Vec<u64>,
     /// Nodes sliding in a plane (`--slide`).
@@ -332,7 +335,9 @@ pub fn curve_mesh(
     let pruned_input = !unused_node_tags.is_empty();
     let mut linear = if pruned_input { &pruned } else { linear };
     let split_input: LinearMesh;
+    let quad_split: LinearMesh;
     let mut split_edges = 0;
+    let mut quadrilaterals_split = 0;
     if let Some(geometry) = geometry {
         progress(Progress::Step(Step::Association));
         let t = Instant::now();
@@ -350,9 +355,28 @@ pub fn curve_mesh(
             }
             Ok(association)
         };
-        let found = associate(linear)?;
-        // Cells that no curving can make valid are split first (see `split_edges`).
-        let edges = edges_opposite_doubly_curved_corners(linear, &found);
+        let mut found = associate(linear)?;
+        // Cells that no curving can make valid are split first: quadrilaterals at a corner
+        // between two edges on one curved entity (see `split_quadrilaterals`), then
+        // simplices with two facets on one curved entity (see `split_edges`).
+        // At p = 1 nothing curves: no cell needs splitting.
+        let corners = if options.order > 1 {
+            quadrilateral_corners_on_one_entity(linear, &found)
+        } else {
+            Vec::new()
+        };
+        let (quads, count) = linear.split_quadrilaterals(&corners);
+        if count > 0 {
+            quad_split = quads;
+            linear = &quad_split;
+            found = associate(linear)?;
+            quadrilaterals_split = count;
+        }
+        let edges = if options.order > 1 {
+            edges_opposite_doubly_curved_corners(linear, &found)
+        } else {
+            Vec::new()
+        };
         let (split, count) = linear.split_edges(&edges);
         if count > 0 {
             split_input = split;
@@ -425,7 +449,8 @@ pub fn curve_mesh(
             if split_edges > 0 {
                 curved.report.edges_split = split_edges;
             }
-            if split_edges > 0 || pruned_input {
+            curved.report.quadrilaterals_split = quadrilaterals_split;
+            if split_edges > 0 || quadrilaterals_split > 0 || pruned_input {
                 curved.split_input = Some(linear.clone());
             }
             curved.report.unused_node_tags = unused_node_tags;
@@ -436,6 +461,36 @@ pub fn curve_mesh(
         undone_corrections += 1;
         placement.uncorrected_edges.extend(culprits);
     }
+}
+
+/// The quadrilaterals to split, each with the corner whose two edges lie on one curved
+/// entity (the first such corner; a triangle left with two such edges is then split by
+/// [`edges_opposite_doubly_curved_corners`]).
+fn quadrilateral_corners_on_one_entity(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> Vec<(usize, usize)> {
+    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
+    let edge_entity: std::collections::HashMap<[u32; 2], usize> = linear
+        .facets
+        .iter()
+        .zip(&association.facet_entity)
+        .filter(|(f, _)| f.vertices.len() == 2)
+        .filter_map(|(f, e)| e.map(|e| (key(f.vertices[0], f.vertices[1]), e)))
+        .collect();
+    let mut out = Vec::new();
+    for (c, cell) in linear.cells.iter().enumerate() {
+        if cell.kind != hocurve_mesh::ElementType::Quad || cell.vertices.len() != 4 {
+            continue;
+        }
+        let v = &cell.vertices;
+        let entity = |k: usize| edge_entity.get(&key(v[k % 4], v[(k + 1) % 4])).copied();
+        // Corner k joins edges k − 1 and k.
+        if let Some(k) = (0..4).find(|&k| entity(k + 3).is_some() && entity(k + 3) == entity(k)) {
+            out.push((c, k));
+        }
+    }
+    out
 }
 
 /// The edges to split so that no triangle or tetrahedron has two facets on one curved
@@ -667,6 +722,7 @@ impl Attempt {
             min_edge_angle_degrees: targets.min_edge_angle_degrees,
             corrections_undone: undone_corrections,
             edges_split: 0,
+            quadrilaterals_split: 0,
             untangled_elements: 0,
             untangle_rounds: 0,
             unused_node_tags: Vec::new(),

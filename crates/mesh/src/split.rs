@@ -88,6 +88,47 @@ impl LinearMesh {
         }
         (mesh, split)
     }
+
+    /// Splits each listed quadrilateral (cell index, corner 0..4) into two triangles along
+    /// the diagonal from that corner: (c, c+1, c+2) keeps the cell's position and tag,
+    /// (c, c+2, c+3) is appended with a new tag past the largest. Curved, a quadrilateral
+    /// whose two edges at a corner lie on one smooth curve opens that corner to 180° (det J
+    /// = 0 there); each triangle keeps one of those edges. The diagonal is inside the cell,
+    /// so the mesh stays conforming. Entries that are not quadrilaterals are skipped; returns
+    /// the new mesh and the number of cells split.
+    pub fn split_quadrilaterals(&self, corners: &[(usize, usize)]) -> (LinearMesh, usize) {
+        let mut mesh = self.clone();
+        let mut added = Vec::new();
+        for &(cell, corner) in corners {
+            let Some(e) = mesh.cells.get_mut(cell) else {
+                continue;
+            };
+            if e.kind != ElementType::Quad || e.vertices.len() != 4 {
+                continue;
+            }
+            let v = |k: usize| e.vertices[(corner + k) % 4];
+            let (first, second) = (vec![v(0), v(1), v(2)], vec![v(0), v(2), v(3)]);
+            e.kind = ElementType::Tri;
+            e.vertices = first;
+            added.push(Element {
+                kind: ElementType::Tri,
+                vertices: second,
+                entity: e.entity,
+            });
+        }
+        let count = added.len() as u64;
+        if !mesh.cell_tags.is_empty() {
+            let next = mesh
+                .cell_tags
+                .iter()
+                .chain(&mesh.facet_tags)
+                .max()
+                .map_or(1, |t| t + 1);
+            mesh.cell_tags.extend(next..next + count);
+        }
+        mesh.cells.extend(added);
+        (mesh, count as usize)
+    }
 }
 
 #[cfg(test)]

@@ -82,3 +82,55 @@ fn edges_that_do_not_exist_or_touch_non_simplices_are_not_split() {
     let (_, count) = mesh.split_edges(&[[0, 1], [1, 0]]);
     assert_eq!(count, 1);
 }
+
+#[test]
+fn a_quadrilateral_splits_into_two_positive_triangles_along_the_diagonal_of_its_corner() {
+    let quad = LinearMesh {
+        dim: 2,
+        vertices: vec![
+            [0.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0],
+            [2.5, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ],
+        cells: vec![Element {
+            kind: ElementType::Quad,
+            vertices: vec![0, 1, 2, 3],
+            entity: 4,
+        }],
+        cell_tags: vec![10],
+        facet_tags: vec![],
+        ..Default::default()
+    };
+    let area = |m: &LinearMesh, e: &Element| {
+        let x: Vec<[f64; 3]> = e.vertices.iter().map(|&v| m.vertices[v as usize]).collect();
+        (x[1][0] - x[0][0]) * (x[2][1] - x[0][1]) - (x[1][1] - x[0][1]) * (x[2][0] - x[0][0])
+    };
+    for corner in 0..4 {
+        let (split, count) = quad.split_quadrilaterals(&[(0, corner)]);
+        assert_eq!(count, 1);
+        assert_eq!(split.cells.len(), 2);
+        assert!(split
+            .cells
+            .iter()
+            .all(|c| c.kind == ElementType::Tri && c.entity == 4));
+        assert!(
+            split.cells.iter().all(|c| area(&split, c) > 0.0),
+            "corner {corner}"
+        );
+        // Both triangles hold the corner and the opposite vertex: the diagonal.
+        let (a, b) = (corner as u32, ((corner + 2) % 4) as u32);
+        assert!(split
+            .cells
+            .iter()
+            .all(|c| c.vertices.contains(&a) && c.vertices.contains(&b)));
+        let total: f64 = split.cells.iter().map(|c| area(&split, c)).sum();
+        // Twice the area (shoelace): 2 × 2.25.
+        assert!((total - 4.5).abs() < 1e-12, "{total}");
+        assert_eq!(split.cell_tags, vec![10, 11]);
+    }
+    // Not a quadrilateral: nothing happens.
+    let (same, count) = pair().split_quadrilaterals(&[(0, 1)]);
+    assert_eq!(count, 0);
+    assert_eq!(same.cells.len(), 2);
+}
