@@ -261,6 +261,10 @@ pub struct CurveReport {
     /// Quadrilaterals split into two triangles before curving (two of their edges, meeting
     /// at a corner, lay on one curved entity: curved, that corner opens to 180°).
     pub quadrilaterals_split: usize,
+    /// Hexahedra and prisms (indices into the curved mesh's cells) with two faces on one
+    /// curved entity meeting along an edge: not split (it would not be conforming), they
+    /// get det J = 0 along that edge and cannot be certified.
+    pub doubly_curved_cells: Vec<usize>,
     /// Tags of the input nodes no cell uses, left out of the curved mesh.
     pub unused_node_tags: Vec<u64>,
     /// Nodes sliding in a plane (`--slide`).
@@ -338,6 +342,7 @@ pub fn curve_mesh(
     let quad_split: LinearMesh;
     let mut split_edges = 0;
     let mut quadrilaterals_split = 0;
+    let mut doubly_curved_cells = Vec::new();
     if let Some(geometry) = geometry {
         progress(Progress::Step(Step::Association));
         let t = Instant::now();
@@ -385,6 +390,11 @@ pub fn curve_mesh(
             split_edges = count;
         } else {
             association = Some((geometry, found));
+        }
+        if let Some((_, found)) = &association {
+            if options.order > 1 {
+                doubly_curved_cells = cells_with_doubly_curved_edges(linear, found);
+            }
         }
         timings.association = t.elapsed().as_secs_f64();
     }
@@ -450,6 +460,7 @@ pub fn curve_mesh(
                 curved.report.edges_split = split_edges;
             }
             curved.report.quadrilaterals_split = quadrilaterals_split;
+            curved.report.doubly_curved_cells = doubly_curved_cells;
             if split_edges > 0 || quadrilaterals_split > 0 || pruned_input {
                 curved.split_input = Some(linear.clone());
             }
@@ -488,6 +499,52 @@ fn quadrilateral_corners_on_one_entity(
         // Corner k joins edges k − 1 and k.
         if let Some(k) = (0..4).find(|&k| entity(k + 3).is_some() && entity(k + 3) == entity(k)) {
             out.push((c, k));
+        }
+    }
+    out
+}
+
+/// The hexahedra and prisms with two faces on one curved entity that share an edge: curved,
+/// the dihedral angle there opens to 180° (det J = 0), and such cells cannot be split
+/// conformingly like simplices and quadrilaterals. Indices into `linear.cells`.
+fn cells_with_doubly_curved_edges(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> Vec<usize> {
+    let sorted = |v: &[u32]| {
+        let mut v = v.to_vec();
+        v.sort_unstable();
+        v
+    };
+    let facet_entity: std::collections::HashMap<Vec<u32>, usize> = linear
+        .facets
+        .iter()
+        .zip(&association.facet_entity)
+        .filter_map(|(f, e)| e.map(|e| (sorted(&f.vertices), e)))
+        .collect();
+    let mut out = Vec::new();
+    for (c, cell) in linear.cells.iter().enumerate() {
+        let shape = match cell.kind {
+            hocurve_mesh::ElementType::Hex => hocurve_nodes::Shape::Hex,
+            hocurve_mesh::ElementType::Prism => hocurve_nodes::Shape::Prism,
+            _ => continue,
+        };
+        let faces: Vec<(Vec<u32>, Option<usize>)> = shape
+            .faces()
+            .iter()
+            .map(|f| {
+                let vertices: Vec<u32> = f.iter().map(|&k| cell.vertices[k]).collect();
+                let entity = facet_entity.get(&sorted(&vertices)).copied();
+                (vertices, entity)
+            })
+            .collect();
+        let doubly = faces.iter().enumerate().any(|(i, (a, ea))| {
+            faces[i + 1..].iter().any(|(b, eb)| {
+                ea.is_some() && ea == eb && a.iter().filter(|v| b.contains(v)).count() >= 2
+            })
+        });
+        if doubly {
+            out.push(c);
         }
     }
     out
@@ -723,6 +780,7 @@ impl Attempt {
             corrections_undone: undone_corrections,
             edges_split: 0,
             quadrilaterals_split: 0,
+            doubly_curved_cells: Vec::new(),
             untangled_elements: 0,
             untangle_rounds: 0,
             unused_node_tags: Vec::new(),

@@ -438,3 +438,78 @@ fn elements_the_elastic_solve_leaves_inverted_are_untangled_until_certified() {
     // The elastic solve alone fails on most of these (measured: 7 of 12).
     assert!(repaired >= 6, "only {repaired} cases needed a repair");
 }
+
+/// A prism whose three vertical faces lie on one cylinder (a coarse cylinder cut by one
+/// cell): curved, every vertical edge opens to 180°, det J = 0 there. Hexahedra and prisms
+/// are not split (it would not be conforming), so the report names the cell as the cause
+/// and the certification does not pass it.
+#[test]
+fn a_prism_with_two_faces_on_one_curved_entity_is_named_as_the_cause() {
+    let angle = |k: usize| 2.0 * std::f64::consts::PI * k as f64 / 3.0;
+    let mut vertices = Vec::new();
+    for z in [0.0, 1.0] {
+        for k in 0..3 {
+            vertices.push([angle(k).cos(), angle(k).sin(), z]);
+        }
+    }
+    let quad = |a: u32, b: u32| Element {
+        kind: ElementType::Quad,
+        vertices: vec![a, b, b + 3, a + 3],
+        entity: 1,
+    };
+    let tri = |v: Vec<u32>| Element {
+        kind: ElementType::Tri,
+        vertices: v,
+        entity: 2,
+    };
+    let linear = LinearMesh {
+        dim: 3,
+        vertices,
+        cells: vec![Element {
+            kind: ElementType::Prism,
+            vertices: vec![0, 1, 2, 3, 4, 5],
+            entity: 1,
+        }],
+        facets: vec![
+            quad(0, 1),
+            quad(1, 2),
+            quad(2, 0),
+            tri(vec![0, 2, 1]),
+            tri(vec![3, 4, 5]),
+        ],
+        physical_groups: vec![
+            PhysicalGroup {
+                dim: 2,
+                tag: 1,
+                name: "wall".into(),
+            },
+            PhysicalGroup {
+                dim: 2,
+                tag: 2,
+                name: "ends".into(),
+            },
+        ],
+        entity_physicals: [((2, 1), vec![1]), ((2, 2), vec![2])].into_iter().collect(),
+        ..Default::default()
+    };
+    let model = parse_geometry_json(
+        r#"{"entities": [{"name": "wall", "kind": "cylinder", "point": [0, 0, 0], "axis": [0, 0, 1], "radius": 1}]}"#,
+    )
+    .unwrap();
+    let geometry = Geometry {
+        model: &model,
+        rule: AssociationRule::NameOnly,
+    };
+    // At p = 2 the parabola's end tangents still turn less than the arc's: valid, barely;
+    // at higher orders the corner approaches 180°.
+    for (p, certified) in [(2, 1), (4, 0)] {
+        let curved =
+            curve_mesh(&linear, Some(geometry), &CurveOptions::new(p), &mut |_| {}).unwrap();
+        assert_eq!(curved.report.doubly_curved_cells, vec![0]);
+        assert_eq!(
+            curved.report.certified_valid_elements,
+            Some(certified),
+            "p = {p}"
+        );
+    }
+}

@@ -584,8 +584,13 @@ fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified
                 .as_ref()
                 .map(|v| format!(", Ĩ ≥ {:.3}", v[c].scaled_jacobian_lower_bound))
                 .unwrap_or_default();
+            let cause = if curved.report.doubly_curved_cells.contains(&c) {
+                " (two of its faces lie on one curved surface and meet along an edge: curved, they open to 180° there, det J = 0; split this cell in the input)"
+            } else {
+                ""
+            };
             format!(
-                "input element tag {} at ({:.4}, {:.4}, {:.4}){bound}",
+                "input element tag {} at ({:.4}, {:.4}, {:.4}){bound}{cause}",
                 linear.cell_tag(c),
                 centre[0],
                 centre[1],
