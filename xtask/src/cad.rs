@@ -130,6 +130,10 @@ pub fn cad_families(python: &Path, full: bool) -> Result<()> {
             if !checked.status.success() {
                 failures.push(format!("{label}: {line}"));
             }
+            // The report describes the written file: its numbers against Gmsh's.
+            if let Err(e) = report_matches(&file.with_extension("json"), line) {
+                failures.push(format!("{label}: the report does not match Gmsh: {e}"));
+            }
             if let Some(plain) = plain {
                 if ours < plain - 1e-9 {
                     failures.push(format!(
@@ -141,6 +145,42 @@ pub fn cad_families(python: &Path, full: bool) -> Result<()> {
     }
     if !failures.is_empty() {
         bail!("CAD families:\n  {}", failures.join("\n  "));
+    }
+    Ok(())
+}
+
+/// Checks the report of a run against Gmsh's evaluation of the written file (the JSON
+/// line of `check_cad.py`): same element count; Gmsh's sampled Ĩ at least the certified
+/// lower bound (a sample of min det J / max det J cannot be below a bound of the true
+/// ratio); the same largest distance of a curved-boundary node from the geometry, to 1e-10
+/// of the model size.
+fn report_matches(report: &Path, gmsh: &str) -> Result<()> {
+    let ours: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(report)?)?;
+    let theirs: serde_json::Value = serde_json::from_str(gmsh)?;
+    let number =
+        |v: &serde_json::Value, key: &str| v[key].as_f64().with_context(|| format!("no {key}"));
+    let elements = (number(&ours, "elements")?, number(&theirs, "elements")?);
+    if elements.0 != elements.1 {
+        bail!(
+            "{} elements in the report, {} in the file",
+            elements.0,
+            elements.1
+        );
+    }
+    let (bound, sampled) = (
+        number(&ours, "min_scaled_jacobian_lower_bound")?,
+        number(&theirs, "min_scaled_jacobian")?,
+    );
+    if sampled < bound - 1e-9 {
+        bail!("Gmsh samples Ĩ = {sampled:.6} below the certified bound {bound:.6}");
+    }
+    let size = number(&theirs, "size")?;
+    let (distance, measured) = (
+        number(&ours, "max_geometry_distance")?,
+        number(&theirs, "max_distance")?,
+    );
+    if (distance - measured).abs() > 1e-10 * size {
+        bail!("max_geometry_distance {distance:.3e}, Gmsh measures {measured:.3e}");
     }
     Ok(())
 }
