@@ -447,6 +447,7 @@ pub fn curve_mesh(
                     &mut attempt.mesh,
                     &attempt.straight,
                     on_geometry,
+                    &doubly_curved_cells,
                     quality,
                     &|mesh| Ok(assess_certified(mesh, options)?),
                 )?;

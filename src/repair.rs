@@ -45,16 +45,25 @@ pub fn not_certified(quality: &MeshQuality) -> Vec<usize> {
 /// widening them round by round, and returns the quality of the repaired mesh (measured by
 /// `assess`, which must certify). `straight` holds the straight-sided node positions (the
 /// shapes aimed at); `on_geometry` the nodes placed on the geometry, which stay where they
-/// are, like every other node on the boundary.
+/// are, like every other node on the boundary; `hopeless` the cells no node move can make
+/// valid (two faces on one curved entity meeting along an edge), which are not tried.
 pub(crate) fn untangle_not_certified(
     mesh: &mut HighOrderMesh,
     straight: &[[f64; 3]],
     on_geometry: impl IntoIterator<Item = u32>,
+    hopeless: &[usize],
     mut quality: MeshQuality,
     assess: &dyn Fn(&HighOrderMesh) -> Result<MeshQuality, CurveError>,
 ) -> Result<(MeshQuality, Untangling), CurveError> {
     let mut done = Untangling::default();
-    let mut bad = not_certified(&quality);
+    // Cells whose det J vanishes on a boundary edge whatever the free nodes do are left out.
+    let repairable = |quality: &MeshQuality| -> Vec<usize> {
+        not_certified(quality)
+            .into_iter()
+            .filter(|c| !hopeless.contains(c))
+            .collect()
+    };
+    let mut bad = repairable(&quality);
     if bad.is_empty() || quality.validity.is_none() {
         return Ok((quality, done));
     }
@@ -75,7 +84,7 @@ pub(crate) fn untangle_not_certified(
         done.rounds = rings;
         done.free_nodes = done.free_nodes.max(report.free_nodes);
         quality = assess(mesh)?;
-        bad = not_certified(&quality);
+        bad = repairable(&quality);
         if bad.is_empty() {
             break;
         }
