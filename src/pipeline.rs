@@ -505,6 +505,26 @@ fn quadrilateral_corners_on_one_entity(
     out
 }
 
+/// Vertex ids sorted (a facet's key whatever its orientation).
+fn sorted(v: &[u32]) -> Vec<u32> {
+    let mut v = v.to_vec();
+    v.sort_unstable();
+    v
+}
+
+/// The curved entity of each associated declared facet, keyed by its sorted vertices.
+fn facet_entities(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> std::collections::HashMap<Vec<u32>, usize> {
+    linear
+        .facets
+        .iter()
+        .zip(&association.facet_entity)
+        .filter_map(|(f, e)| e.map(|e| (sorted(&f.vertices), e)))
+        .collect()
+}
+
 /// The hexahedra and prisms with two faces on one curved entity that share an edge: curved,
 /// the dihedral angle there opens to 180° (det J = 0), and such cells cannot be split
 /// conformingly like simplices and quadrilaterals. Indices into `linear.cells`.
@@ -512,17 +532,7 @@ fn cells_with_doubly_curved_edges(
     linear: &LinearMesh,
     association: &hocurve_geodesic::BoundaryAssociation,
 ) -> Vec<usize> {
-    let sorted = |v: &[u32]| {
-        let mut v = v.to_vec();
-        v.sort_unstable();
-        v
-    };
-    let facet_entity: std::collections::HashMap<Vec<u32>, usize> = linear
-        .facets
-        .iter()
-        .zip(&association.facet_entity)
-        .filter_map(|(f, e)| e.map(|e| (sorted(&f.vertices), e)))
-        .collect();
+    let facet_entity = facet_entities(linear, association);
     let mut out = Vec::new();
     for (c, cell) in linear.cells.iter().enumerate() {
         let shape = match cell.kind {
@@ -559,17 +569,7 @@ fn edges_opposite_doubly_curved_corners(
     linear: &LinearMesh,
     association: &hocurve_geodesic::BoundaryAssociation,
 ) -> Vec<[u32; 2]> {
-    let sorted = |v: &[u32]| {
-        let mut v = v.to_vec();
-        v.sort_unstable();
-        v
-    };
-    let facet_entity: std::collections::HashMap<Vec<u32>, usize> = linear
-        .facets
-        .iter()
-        .zip(&association.facet_entity)
-        .filter_map(|(f, e)| e.map(|e| (sorted(&f.vertices), e)))
-        .collect();
+    let facet_entity = facet_entities(linear, association);
     let on_a_facet = |a: u32, b: u32| {
         linear
             .facets
