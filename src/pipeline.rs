@@ -118,8 +118,8 @@ pub struct CurveOptions {
     /// Certify every element's validity with Bézier bounds on det J (beyond the paper)
     /// when `quality.bezier` is not set. The paper's Ĩ samples det J at interior quadrature
     /// points and can miss det J < 0 near a vertex or face; the Bézier check cannot. Where
-    /// it is not supported (det J degree too high) or too slow (order above
-    /// [`CERTIFY_MAX_ORDER`]) the report says "not certified".
+    /// it is not supported (see [`hocurve_quality::bezier_check_supported`]) the report
+    /// says "not certified".
     pub certify: bool,
     /// Repair elements the certification does not find valid by untangling the free nodes
     /// around them (see [`crate::repair`]); needs `certify`.
@@ -365,7 +365,8 @@ pub fn curve_mesh(
         // between two edges on one curved entity (see `split_quadrilaterals`), then
         // simplices with two facets on one curved entity (see `split_edges`).
         // At p = 1 nothing curves: no cell needs splitting.
-        let corners = if options.order > 1 {
+        let curving = options.order > 1;
+        let corners = if curving {
             quadrilateral_corners_on_one_entity(linear, &found)
         } else {
             Vec::new()
@@ -377,7 +378,7 @@ pub fn curve_mesh(
             found = associate(linear)?;
             quadrilaterals_split = count;
         }
-        let edges = if options.order > 1 {
+        let edges = if curving {
             edges_opposite_doubly_curved_corners(linear, &found)
         } else {
             Vec::new()
@@ -391,10 +392,8 @@ pub fn curve_mesh(
         } else {
             association = Some((geometry, found));
         }
-        if let Some((_, found)) = &association {
-            if options.order > 1 {
-                doubly_curved_cells = cells_with_doubly_curved_edges(linear, found);
-            }
+        if let (Some((_, found)), true) = (&association, curving) {
+            doubly_curved_cells = cells_with_doubly_curved_edges(linear, found);
         }
         timings.association = t.elapsed().as_secs_f64();
     }
@@ -482,21 +481,18 @@ fn quadrilateral_corners_on_one_entity(
     linear: &LinearMesh,
     association: &hocurve_geodesic::BoundaryAssociation,
 ) -> Vec<(usize, usize)> {
-    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
-    let edge_entity: std::collections::HashMap<[u32; 2], usize> = linear
-        .facets
-        .iter()
-        .zip(&association.facet_entity)
-        .filter(|(f, _)| f.vertices.len() == 2)
-        .filter_map(|(f, e)| e.map(|e| (key(f.vertices[0], f.vertices[1]), e)))
-        .collect();
+    let facet_entity = facet_entities(linear, association);
     let mut out = Vec::new();
     for (c, cell) in linear.cells.iter().enumerate() {
         if cell.kind != hocurve_mesh::ElementType::Quad || cell.vertices.len() != 4 {
             continue;
         }
         let v = &cell.vertices;
-        let entity = |k: usize| edge_entity.get(&key(v[k % 4], v[(k + 1) % 4])).copied();
+        let entity = |k: usize| {
+            facet_entity
+                .get(&sorted(&[v[k % 4], v[(k + 1) % 4]]))
+                .copied()
+        };
         // Corner k joins edges k − 1 and k.
         if let Some(k) = (0..4).find(|&k| entity(k + 3).is_some() && entity(k + 3) == entity(k)) {
             out.push((c, k));
@@ -825,16 +821,7 @@ fn harmful_corrections(
     if targets.corrected_edge_vertices.is_empty() {
         return BTreeSet::new();
     }
-    let mut suspect = invalid_cells(quality);
-    if let Some(checks) = &quality.validity {
-        suspect.extend(
-            checks
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| c.validity == Validity::Undecided)
-                .map(|(e, _)| e),
-        );
-    }
+    let suspect = crate::repair::not_certified(quality);
     let corrected: BTreeSet<[u32; 2]> = targets
         .corrected_edge_vertices
         .iter()

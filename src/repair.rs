@@ -22,8 +22,6 @@ pub struct Untangling {
     pub elements: usize,
     /// Rounds run (patch rings 1, 2, ...).
     pub rounds: usize,
-    /// Nodes moved (free in some round's patches).
-    pub free_nodes: usize,
 }
 
 /// The elements with det J ≤ 0 found, or that the Bézier check left undecided.
@@ -80,9 +78,8 @@ pub(crate) fn untangle_not_certified(
             rings,
             ..UntangleOptions::default()
         };
-        let report = untangle(mesh, straight, &bad, &fixed, &options)?;
+        untangle(mesh, straight, &bad, &fixed, &options)?;
         done.rounds = rings;
-        done.free_nodes = done.free_nodes.max(report.free_nodes);
         quality = assess(mesh)?;
         bad = repairable(&quality);
         if bad.is_empty() {

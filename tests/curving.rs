@@ -500,8 +500,10 @@ fn a_prism_with_two_faces_on_one_curved_entity_is_named_as_the_cause() {
         model: &model,
         rule: AssociationRule::NameOnly,
     };
-    // At p = 2 the parabola's end tangents still turn less than the arc's: valid, barely;
-    // at higher orders the corner approaches 180°.
+    // At p = 2 the parabola through the ends A, B and middle M of a 120° arc leaves A along
+    // −3A + 4M − B, at atan(2/√3) = 49.1° to the chord (the arc: 60°), so each 60° corner
+    // opens to 60 + 2 · 49.1 = 158° < 180°: valid. Higher orders follow the arc more closely
+    // and reach or pass 180°.
     for (p, certified) in [(2, 1), (4, 0)] {
         let curved =
             curve_mesh(&linear, Some(geometry), &CurveOptions::new(p), &mut |_| {}).unwrap();
