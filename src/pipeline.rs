@@ -247,8 +247,8 @@ pub struct CurveReport {
     /// Smallest angle (degrees) between neighbouring curved surface edges, before the
     /// correction (None when not measured: 2D, projection, p ≤ 1, correction off).
     pub min_edge_angle_degrees: Option<f64>,
-    /// Corrections undone because an element touching them came out invalid (rounds of
-    /// re-curving, at most [`MAX_REPAIRS`]).
+    /// Corrected edges put back on their geodesics because an element on them was not better
+    /// certified with the correction than without.
     pub corrections_undone: usize,
     /// Elements not certified valid after the elastic solve (and undone corrections), whose
     /// patches were then untangled (0: none needed).
@@ -322,9 +322,10 @@ pub struct CurvedMesh {
 /// The mesh returned is the one to write: equispaced nodes (what VTK and Gmsh read), its
 /// curved-boundary nodes on the geometry (interpolated from the node family used inside,
 /// then projected onto their entities), and its quality and certification measured on it.
-/// When the certification finds elements with det J ≤ 0 that touch edges rebuilt by the
-/// minimum-angle correction (Fig. 4), those corrections are undone and the mesh is curved
-/// again (at most [`MAX_REPAIRS`] times): a correction is kept only where it does no harm.
+/// When the minimum-angle correction (Fig. 4) rebuilt edges, the mesh is also curved without
+/// it: a correction is kept only if every element on its edge is better certified with it,
+/// and the result is never worse certified than without corrections (so at most three
+/// curvings). Elements still not certified are then untangled ([`crate::repair`]).
 pub fn curve_mesh(
     linear: &LinearMesh,
     geometry: Option<Geometry>,
@@ -403,75 +404,119 @@ pub fn curve_mesh(
     let straight = HighOrderMesh::from_linear(linear, options.order, options.family)?;
     timings.high_order_nodes = t.elapsed().as_secs_f64();
 
-    let mut placement = options.placement.clone();
+    // The paper's curving, with its minimum-angle corrections (Fig. 4) where there are any.
+    let placement = &options.placement;
+    let mut curve_with = |placement: &PlacementOptions, timings: &mut StepTimings| {
+        curve_and_certify(
+            linear,
+            &straight,
+            association.as_ref(),
+            placement,
+            options,
+            progress,
+            timings,
+        )
+    };
+    let (mut attempt, mut quality) = curve_with(placement, &mut timings)?;
+    // A correction is kept only if every element touching its edge is better certified
+    // with it than without any (the paper's rule is a heuristic on angles, which can do
+    // harm), and the mesh as a whole no worse than with the correction off.
+    let corrected = active_corrections(&attempt, placement);
     let mut undone_corrections = 0;
-    loop {
-        let attempt = match &association {
-            None => Attempt::straight(&straight),
-            Some((geometry, association)) => Attempt::curved(
-                &straight,
-                *geometry,
-                association,
-                &placement,
-                options,
-                progress,
-                &mut timings,
-            )?,
-        };
-        let attempt = attempt.written(linear, options, geometry, &mut timings)?;
-        progress(Progress::Step(Step::Quality));
-        let t = Instant::now();
-        let quality = assess_certified(&attempt.mesh, options)?;
-        timings.quality += t.elapsed().as_secs_f64();
-
-        let culprits = harmful_corrections(&attempt, &quality, &placement);
-        if culprits.is_empty() || undone_corrections >= MAX_REPAIRS {
-            let (mut attempt, mut quality) = (attempt, quality);
-            let mut untangling = crate::repair::Untangling::default();
-            if options.untangle
-                && options.certify
-                && !options.boundary_only
-                && association.is_some()
-            {
-                let on_geometry: Vec<u32> = attempt
-                    .targets
-                    .as_ref()
-                    .map(|t| t.entities.keys().copied().collect())
-                    .unwrap_or_default();
-                if !crate::repair::not_certified(&quality).is_empty() {
-                    progress(Progress::Step(Step::Repair));
-                }
-                let t = Instant::now();
-                (quality, untangling) = crate::repair::untangle_not_certified(
-                    &mut attempt.mesh,
-                    &attempt.straight,
-                    on_geometry,
-                    &doubly_curved_cells,
-                    quality,
-                    &|mesh| Ok(assess_certified(mesh, options)?),
-                )?;
-                timings.repair = t.elapsed().as_secs_f64();
-            }
-            timings.total = start.elapsed().as_secs_f64();
-            let association = association.as_ref().map(|(_, a)| a);
-            let mut curved =
-                attempt.finish(options, association, quality, undone_corrections, timings);
-            if split_edges > 0 {
-                curved.report.edges_split = split_edges;
-            }
-            curved.report.quadrilaterals_split = quadrilaterals_split;
-            curved.report.doubly_curved_cells = doubly_curved_cells;
-            if split_edges > 0 || quadrilaterals_split > 0 || pruned_input {
-                curved.split_input = Some(linear.clone());
-            }
-            curved.report.unused_node_tags = unused_node_tags;
-            curved.report.untangled_elements = untangling.elements;
-            curved.report.untangle_rounds = untangling.rounds;
-            return Ok(curved);
+    if !corrected.is_empty() {
+        let mut plain = placement.clone();
+        plain.uncorrected_edges.extend(corrected.iter().copied());
+        let (without, without_quality) = curve_with(&plain, &mut timings)?;
+        let losers = corrections_not_helping(
+            &attempt.mesh,
+            &corrected,
+            &certified_scaled_jacobians(&quality),
+            &certified_scaled_jacobians(&without_quality),
+        );
+        if !losers.is_empty() && losers.len() < corrected.len() {
+            let mut some = placement.clone();
+            some.uncorrected_edges.extend(losers.iter().copied());
+            (attempt, quality) = curve_with(&some, &mut timings)?;
+            undone_corrections = losers.len();
         }
-        undone_corrections += 1;
-        placement.uncorrected_edges.extend(culprits);
+        let minimum = |q: &MeshQuality| {
+            certified_scaled_jacobians(q)
+                .into_iter()
+                .fold(f64::INFINITY, f64::min)
+        };
+        if losers.len() == corrected.len() || minimum(&quality) < minimum(&without_quality) {
+            (attempt, quality) = (without, without_quality);
+            undone_corrections = corrected.len();
+        }
     }
+
+    let mut untangling = crate::repair::Untangling::default();
+    if options.untangle && options.certify && !options.boundary_only && association.is_some() {
+        let on_geometry: Vec<u32> = attempt
+            .targets
+            .as_ref()
+            .map(|t| t.entities.keys().copied().collect())
+            .unwrap_or_default();
+        if !crate::repair::not_certified(&quality).is_empty() {
+            progress(Progress::Step(Step::Repair));
+        }
+        let t = Instant::now();
+        (quality, untangling) = crate::repair::untangle_not_certified(
+            &mut attempt.mesh,
+            &attempt.straight,
+            on_geometry,
+            &doubly_curved_cells,
+            quality,
+            &|mesh| Ok(assess_certified(mesh, options)?),
+        )?;
+        timings.repair = t.elapsed().as_secs_f64();
+    }
+    timings.total = start.elapsed().as_secs_f64();
+    let association = association.as_ref().map(|(_, a)| a);
+    let mut curved = attempt.finish(options, association, quality, undone_corrections, timings);
+    if split_edges > 0 {
+        curved.report.edges_split = split_edges;
+    }
+    curved.report.quadrilaterals_split = quadrilaterals_split;
+    curved.report.doubly_curved_cells = doubly_curved_cells;
+    if split_edges > 0 || quadrilaterals_split > 0 || pruned_input {
+        curved.split_input = Some(linear.clone());
+    }
+    curved.report.unused_node_tags = unused_node_tags;
+    curved.report.untangled_elements = untangling.elements;
+    curved.report.untangle_rounds = untangling.rounds;
+    Ok(curved)
+}
+
+/// One curving of `straight` with the boundary `placement` (the straight mesh itself
+/// without geometry), in the form it is written, and its certified quality.
+fn curve_and_certify(
+    linear: &LinearMesh,
+    straight: &HighOrderMesh,
+    association: Option<&(Geometry, hocurve_geodesic::BoundaryAssociation)>,
+    placement: &PlacementOptions,
+    options: &CurveOptions,
+    progress: &mut dyn FnMut(Progress),
+    timings: &mut StepTimings,
+) -> Result<(Attempt, MeshQuality), CurveError> {
+    let attempt = match association {
+        None => Attempt::straight(straight),
+        Some((geometry, association)) => Attempt::curved(
+            straight,
+            *geometry,
+            association,
+            placement,
+            options,
+            progress,
+            timings,
+        )?,
+    };
+    let attempt = attempt.written(linear, options, association.map(|(g, _)| *g), timings)?;
+    progress(Progress::Step(Step::Quality));
+    let t = Instant::now();
+    let quality = assess_certified(&attempt.mesh, options)?;
+    timings.quality += t.elapsed().as_secs_f64();
+    Ok((attempt, quality))
 }
 
 /// The quadrilaterals to split, each with the corner whose two edges lie on one curved
@@ -607,9 +652,6 @@ fn edges_opposite_doubly_curved_corners(
     }
     edges.into_iter().collect()
 }
-
-/// How many times [`curve_mesh`] undoes minimum-angle corrections and curves again.
-pub const MAX_REPAIRS: usize = 2;
 
 /// One curving of the mesh: boundary nodes placed, the displacement solved.
 struct Attempt {
@@ -808,40 +850,66 @@ impl Attempt {
     }
 }
 
-/// The corrected edges (Fig. 4) of `attempt` with both vertices on one element that is not
-/// certified valid (det J ≤ 0 found, or undecided), and not undone yet.
-fn harmful_corrections(
-    attempt: &Attempt,
-    quality: &MeshQuality,
-    placement: &PlacementOptions,
+/// The edges `attempt` rebuilt by the minimum-angle correction (Fig. 4) that `placement`
+/// did not ask to leave alone.
+fn active_corrections(attempt: &Attempt, placement: &PlacementOptions) -> BTreeSet<[u32; 2]> {
+    attempt
+        .targets
+        .as_ref()
+        .map_or_else(BTreeSet::new, |targets| {
+            targets
+                .corrected_edge_vertices
+                .iter()
+                .copied()
+                .filter(|e| !placement.uncorrected_edges.contains(e))
+                .collect()
+        })
+}
+
+/// The `corrected` edges of `mesh` with a cell on them that is not better certified with
+/// the corrections than without any (scaled-Jacobian bounds per cell `with` and `without`):
+/// a correction has to earn its place on every element it touches.
+fn corrections_not_helping(
+    mesh: &HighOrderMesh,
+    corrected: &BTreeSet<[u32; 2]>,
+    with: &[f64],
+    without: &[f64],
 ) -> BTreeSet<[u32; 2]> {
-    let Some(targets) = &attempt.targets else {
-        return BTreeSet::new();
-    };
-    if targets.corrected_edge_vertices.is_empty() {
-        return BTreeSet::new();
-    }
-    let suspect = crate::repair::not_certified(quality);
-    let corrected: BTreeSet<[u32; 2]> = targets
-        .corrected_edge_vertices
-        .iter()
-        .copied()
-        .filter(|e| !placement.uncorrected_edges.contains(e))
-        .collect();
-    let mut out = BTreeSet::new();
-    for e in suspect {
-        let cell = &attempt.mesh.cells[e];
+    let mut losers = BTreeSet::new();
+    for (e, cell) in mesh.cells.iter().enumerate() {
+        if with[e] > without[e] {
+            continue;
+        }
         let vertices = &cell.nodes[..cell.kind.num_vertices()];
         for (i, &a) in vertices.iter().enumerate() {
             for &b in &vertices[i + 1..] {
                 let key = [a.min(b), a.max(b)];
                 if corrected.contains(&key) {
-                    out.insert(key);
+                    losers.insert(key);
                 }
             }
         }
     }
-    out
+    losers
+}
+
+/// Each element's certified lower bound of the scaled Jacobian, or its sampled minimum when
+/// the mesh was not certified; NaN (degenerate) counts as −∞.
+fn certified_scaled_jacobians(quality: &MeshQuality) -> Vec<f64> {
+    let value = |e: usize| match &quality.validity {
+        Some(checks) => checks[e].scaled_jacobian_lower_bound,
+        None => quality.scaled_jacobian[e],
+    };
+    (0..quality.scaled_jacobian.len())
+        .map(|e| {
+            let v = value(e);
+            if v.is_nan() {
+                f64::NEG_INFINITY
+            } else {
+                v
+            }
+        })
+        .collect()
 }
 
 /// [`assess`] with the Bézier validity check when `options.certify` asks for it and the
@@ -1183,5 +1251,34 @@ mod tests {
         assert_eq!(checks[0].validity, Validity::Invalid);
         assert!(checks[0].scaled_jacobian_lower_bound < 0.0);
         assert_eq!(invalid_elements(&certified), 1);
+    }
+
+    #[test]
+    fn a_correction_goes_when_one_element_on_its_edge_is_not_better_certified() {
+        // Two tetrahedra sharing the face 0 1 3; edge 1 2 is on the first only.
+        let mut linear = tet_with_two_facets();
+        linear.vertices.push([0.0, -1.0, 0.0]);
+        linear.cells.push(Element {
+            kind: ElementType::Tet,
+            vertices: vec![0, 1, 3, 4],
+            entity: 1,
+        });
+        let mesh = HighOrderMesh::from_linear(&linear, 1, NodeFamily::Equispaced).unwrap();
+        let corrected = BTreeSet::from([[0, 1], [1, 2], [2, 3]]);
+        let losers = |with: [f64; 2], without: [f64; 2]| {
+            corrections_not_helping(&mesh, &corrected, &with, &without)
+        };
+        // Both better: all kept.
+        assert!(losers([0.5, 0.4], [0.4, 0.3]).is_empty());
+        // The second no better (equal): the shared edge goes, those on the first stay.
+        assert_eq!(losers([0.5, 0.3], [0.4, 0.3]), BTreeSet::from([[0, 1]]));
+        // The first worse: every corrected edge on it goes.
+        assert_eq!(losers([0.3, 0.4], [0.4, 0.3]), corrected);
+        // Degenerate (NaN) bounds count as the worst.
+        let mut q = assess(&mesh, &QualityOptions::default()).unwrap();
+        q.scaled_jacobian[1] = f64::NAN;
+        let bounds = certified_scaled_jacobians(&q);
+        assert_eq!(bounds[1], f64::NEG_INFINITY);
+        assert!(bounds[0] > 0.9);
     }
 }

@@ -555,3 +555,105 @@ fn the_repair_gives_the_same_bits_for_any_thread_count() {
         assert!(same, "{threads} threads differ from 1");
     }
 }
+
+/// Two tetrahedra under a cap of the unit sphere whose surface triangles A B C and A D B
+/// meet at A at about 6°, under the 10° limit of the minimum-angle correction (Fig. 4), with
+/// an inner vertex at depth 0.4.
+fn sliver_cap() -> LinearMesh {
+    // Points of the sphere above (h s, h t) in the tangent plane at the north pole.
+    let on = |s: f64, t: f64| {
+        let (x, y) = (0.3 * s, 0.3 * t);
+        let r = (x * x + y * y + 1.0).sqrt();
+        [x / r, y / r, 1.0 / r]
+    };
+    let vertices = vec![on(0.0, 0.0), on(1.0, 0.0), on(0.9, 0.1), on(0.5, -0.6), {
+        let o = on(0.45, -0.1);
+        [0.6 * o[0], 0.6 * o[1], 0.6 * o[2]]
+    }];
+    let element = |kind, vertices: &[u32]| Element {
+        kind,
+        vertices: vertices.to_vec(),
+        entity: 1,
+    };
+    LinearMesh {
+        dim: 3,
+        vertices,
+        // Both positively oriented (checked by the curving, which rejects inverted input).
+        cells: vec![
+            element(ElementType::Tet, &[4, 0, 1, 2]),
+            element(ElementType::Tet, &[4, 0, 3, 1]),
+        ],
+        facets: vec![
+            element(ElementType::Tri, &[0, 1, 2]),
+            element(ElementType::Tri, &[0, 3, 1]),
+        ],
+        physical_groups: vec![PhysicalGroup {
+            dim: 2,
+            tag: 1,
+            name: "sphere".into(),
+        }],
+        entity_physicals: BTreeMap::from([((2, 1), vec![1])]),
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
+    }
+}
+
+/// Issue 18, point 1: a minimum-angle correction is kept only if every element on its edge
+/// is better certified with it than with no correction at all; otherwise the mesh is the one
+/// `--min-angle 0` gives, bit for bit, and never certified worse than it.
+#[test]
+fn a_correction_is_kept_only_where_every_element_on_it_is_better_certified() {
+    let model = parse_geometry_json(
+        r#"{"entities": [{"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": 1}]}"#,
+    )
+    .unwrap();
+    let geometry = Geometry {
+        model: &model,
+        rule: AssociationRule::NameOnly,
+    };
+    let linear = sliver_cap();
+    let (mut kept, mut undone) = (0, 0);
+    for p in 3..=6 {
+        let corrected =
+            curve_mesh(&linear, Some(geometry), &CurveOptions::new(p), &mut |_| {}).unwrap();
+        let mut off = CurveOptions::new(p);
+        off.placement = off.placement.with_min_angle(Some(0.0));
+        let plain = curve_mesh(&linear, Some(geometry), &off, &mut |_| {}).unwrap();
+        let r = &corrected.report;
+        println!(
+            "p = {p}: {} kept, {} undone; bound {:?} vs {:?} without",
+            r.corrected_edges,
+            r.corrections_undone,
+            r.min_scaled_jacobian_lower_bound,
+            plain.report.min_scaled_jacobian_lower_bound
+        );
+        // Both thin edges (AB, AC) were corrected, then kept or undone.
+        assert_eq!(r.small_angle_edges, 2, "p = {p}");
+        assert_eq!(r.corrected_edges + r.corrections_undone, 2, "p = {p}");
+        assert!(
+            r.min_scaled_jacobian_lower_bound.unwrap()
+                >= plain.report.min_scaled_jacobian_lower_bound.unwrap(),
+            "p = {p}"
+        );
+        let bound = |c: &CurvedMesh, e: usize| {
+            c.quality.validity.as_ref().unwrap()[e].scaled_jacobian_lower_bound
+        };
+        match r.corrections_undone {
+            // AB is on both tetrahedra: both better certified.
+            0 => {
+                kept += 1;
+                for e in 0..2 {
+                    assert!(bound(&corrected, e) > bound(&plain, e), "p = {p}, tet {e}");
+                }
+            }
+            2 => {
+                undone += 1;
+                assert_eq!(corrected.mesh.nodes, plain.mesh.nodes, "p = {p}");
+            }
+            // AC lies on the first tetrahedron only: it kept AC.
+            _ => assert!(bound(&corrected, 0) > bound(&plain, 0), "p = {p}"),
+        }
+    }
+    println!("{kept} kept, {undone} undone");
+}

@@ -603,7 +603,7 @@ fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified
         "placing the boundary nodes".to_string()
     } else if r.corrections_undone > 0 {
         format!(
-            "the elastic solve and {} round(s) of undoing minimum-angle corrections",
+            "the elastic solve (with {} minimum-angle correction(s) undone)",
             r.corrections_undone
         )
     } else {
@@ -755,7 +755,7 @@ fn print_summary_table(curved: &CurvedMesh, out: &Path) {
         rows.push((
             "corrections undone",
             format!(
-                "{} round(s): Fig. 4 corrections touching invalid elements went back to geodesics",
+                "{} edge(s) back on geodesics: their Fig. 4 correction did not improve every element on them",
                 r.corrections_undone
             ),
         ));
