@@ -14,8 +14,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use hocurve_elastic::{
-    solve_displacement_with_progress, BoundaryConditions, ElasticError, Material, SolveProgress,
-    SolverKind, SolverOptions,
+    solve_displacement_stiffened, solve_displacement_with_progress, BoundaryConditions,
+    ElasticError, Material, SolveProgress, SolverKind, SolverOptions,
 };
 use hocurve_geodesic::{
     associate_boundary, place_boundary_nodes_with, project_nodes_onto_geometry, AssociationRule,
@@ -124,6 +124,10 @@ pub struct CurveOptions {
     /// Repair elements the certification does not find valid by untangling the free nodes
     /// around them (see [`crate::repair`]); needs `certify`.
     pub untangle: bool,
+    /// Repair elements the certification does not find valid by solving again with each
+    /// cell's stiffness scaled by 1/|J| of its straight shape (see
+    /// [`crate::repair::jacobian_stiffening`]) before untangling; needs `certify`.
+    pub stiffen: bool,
 }
 
 impl CurveOptions {
@@ -142,6 +146,7 @@ impl CurveOptions {
             quality: QualityOptions::default(),
             certify: true,
             untangle: true,
+            stiffen: true,
         }
     }
 }
@@ -250,8 +255,16 @@ pub struct CurveReport {
     /// Corrected edges put back on their geodesics because an element on them was not better
     /// certified with the correction than without.
     pub corrections_undone: usize,
-    /// Elements not certified valid after the elastic solve (and undone corrections), whose
-    /// patches were then untangled (0: none needed).
+    /// Elements not certified valid (det J ≤ 0 found, or undecided) after the elastic solve
+    /// (and the choice of corrections): the repair starts from these (0: none needed).
+    pub uncertified_after_solve: usize,
+    /// Whether the mesh was solved again with small cells stiffer (1/|J| of their straight
+    /// shape, see [`crate::repair::jacobian_stiffening`]) because elements were not
+    /// certified after the first solve: None when not, else whether that solve was kept (it
+    /// left fewer elements not certified, or as many with a better bound).
+    pub stiffened_resolve: Option<bool>,
+    /// Elements not certified valid after the elastic solve(s) (and undone corrections),
+    /// whose patches were then untangled (0: none needed).
     pub untangled_elements: usize,
     /// Untangling rounds run (the patch reaches one more ring of cells each round).
     pub untangle_rounds: usize,
@@ -407,14 +420,15 @@ pub fn curve_mesh(
     // The paper's curving, with its minimum-angle corrections (Fig. 4) where there are any.
     let placement = &options.placement;
     let mut curve_with = |placement: &PlacementOptions, timings: &mut StepTimings| {
+        let boundary = association
+            .as_ref()
+            .map(|(geometry, association)| Boundary::Place {
+                geometry: *geometry,
+                association,
+                placement,
+            });
         curve_and_certify(
-            linear,
-            &straight,
-            association.as_ref(),
-            placement,
-            options,
-            progress,
-            timings,
+            linear, &straight, geometry, boundary, options, progress, timings,
         )
     };
     let (mut attempt, mut quality) = curve_with(placement, &mut timings)?;
@@ -447,6 +461,44 @@ pub fn curve_mesh(
         if losers.len() == corrected.len() || minimum(&quality) < minimum(&without_quality) {
             (attempt, quality) = (without, without_quality);
             undone_corrections = corrected.len();
+        }
+    }
+
+    // Repair, first step: with elements not certified, the solve again with small cells
+    // stiffer, kept if it leaves fewer such elements (or as many, better bounded).
+    let mut stiffened_resolve = None;
+    let uncertified_after_solve = crate::repair::not_certified(&quality).len();
+    let repairable = options.certify && !options.boundary_only;
+    if let (true, Some(targets)) = (options.stiffen && repairable, attempt.targets.clone()) {
+        let bad = uncertified_after_solve;
+        if bad > 0 {
+            progress(Progress::Step(Step::Repair));
+            let stiffening = crate::repair::jacobian_stiffening(&straight);
+            let boundary = Boundary::Stiffened {
+                targets: &targets,
+                stiffening: &stiffening,
+            };
+            let (stiff, stiff_quality) = curve_and_certify(
+                linear,
+                &straight,
+                geometry,
+                Some(boundary),
+                options,
+                progress,
+                &mut timings,
+            )?;
+            let stiff_bad = crate::repair::not_certified(&stiff_quality).len();
+            let minimum = |q: &MeshQuality| {
+                certified_scaled_jacobians(q)
+                    .into_iter()
+                    .fold(f64::INFINITY, f64::min)
+            };
+            let better = stiff_bad < bad
+                || (stiff_bad == bad && minimum(&stiff_quality) > minimum(&quality));
+            if better {
+                (attempt, quality) = (stiff, stiff_quality);
+            }
+            stiffened_resolve = Some(better);
         }
     }
 
@@ -483,9 +535,31 @@ pub fn curve_mesh(
         curved.split_input = Some(linear.clone());
     }
     curved.report.unused_node_tags = unused_node_tags;
+    curved.report.uncertified_after_solve = uncertified_after_solve;
+    curved.report.stiffened_resolve = stiffened_resolve;
     curved.report.untangled_elements = untangling.elements;
     curved.report.untangle_rounds = untangling.rounds;
     Ok(curved)
+}
+
+impl CurveReport {
+    /// The repair steps run, in words ("" when none ran).
+    pub fn repair_steps(&self) -> String {
+        let mut steps = Vec::new();
+        match self.stiffened_resolve {
+            Some(true) => steps.push("solved again with small cells stiffer".to_string()),
+            Some(false) => steps
+                .push("solved again with small cells stiffer (no better: not kept)".to_string()),
+            None => {}
+        }
+        if self.untangle_rounds > 0 {
+            steps.push(format!(
+                "{} round(s) of untangling the patches around {} element(s)",
+                self.untangle_rounds, self.untangled_elements
+            ));
+        }
+        steps.join(", then ")
+    }
 }
 
 /// One curving of `straight` with the boundary `placement` (the straight mesh itself
@@ -493,25 +567,17 @@ pub fn curve_mesh(
 fn curve_and_certify(
     linear: &LinearMesh,
     straight: &HighOrderMesh,
-    association: Option<&(Geometry, hocurve_geodesic::BoundaryAssociation)>,
-    placement: &PlacementOptions,
+    geometry: Option<Geometry>,
+    boundary: Option<Boundary<'_>>,
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
     timings: &mut StepTimings,
 ) -> Result<(Attempt, MeshQuality), CurveError> {
-    let attempt = match association {
+    let attempt = match boundary {
         None => Attempt::straight(straight),
-        Some((geometry, association)) => Attempt::curved(
-            straight,
-            *geometry,
-            association,
-            placement,
-            options,
-            progress,
-            timings,
-        )?,
+        Some(boundary) => Attempt::curved(straight, boundary, options, progress, timings)?,
     };
-    let attempt = attempt.written(linear, options, association.map(|(g, _)| *g), timings)?;
+    let attempt = attempt.written(linear, options, geometry, timings)?;
     progress(Progress::Step(Step::Quality));
     let t = Instant::now();
     let quality = assess_certified(&attempt.mesh, options)?;
@@ -653,6 +719,21 @@ fn edges_opposite_doubly_curved_corners(
     edges.into_iter().collect()
 }
 
+/// Where an [`Attempt`]'s boundary nodes come from.
+enum Boundary<'a> {
+    /// Placed on the geometry with these options.
+    Place {
+        geometry: Geometry<'a>,
+        association: &'a hocurve_geodesic::BoundaryAssociation,
+        placement: &'a PlacementOptions,
+    },
+    /// Placed already (by an earlier attempt); the solid stiffened cell by cell.
+    Stiffened {
+        targets: &'a hocurve_geodesic::BoundaryTargets,
+        stiffening: &'a [f64],
+    },
+}
+
 /// One curving of the mesh: boundary nodes placed, the displacement solved.
 struct Attempt {
     /// The curved mesh (the node family of the options until [`Attempt::written`], then
@@ -687,30 +768,53 @@ impl Attempt {
     /// (Sect. 4.3) unless `boundary_only`.
     fn curved(
         straight: &HighOrderMesh,
-        geometry: Geometry,
-        association: &hocurve_geodesic::BoundaryAssociation,
-        placement: &PlacementOptions,
+        boundary: Boundary<'_>,
         options: &CurveOptions,
         progress: &mut dyn FnMut(Progress),
         timings: &mut StepTimings,
     ) -> Result<Self, CurveError> {
-        progress(Progress::Step(Step::BoundaryNodes));
-        let t = Instant::now();
-        let targets = place_boundary_nodes_with(straight, geometry.model, association, placement)?;
-        timings.boundary_nodes += t.elapsed().as_secs_f64();
+        let (targets, stiffening) = match boundary {
+            Boundary::Place {
+                geometry,
+                association,
+                placement,
+            } => {
+                progress(Progress::Step(Step::BoundaryNodes));
+                let t = Instant::now();
+                let targets =
+                    place_boundary_nodes_with(straight, geometry.model, association, placement)?;
+                timings.boundary_nodes += t.elapsed().as_secs_f64();
+                (targets, None)
+            }
+            Boundary::Stiffened {
+                targets,
+                stiffening,
+            } => (targets.clone(), Some(stiffening)),
+        };
         let mut mesh = straight.clone();
         let mut attempt = Attempt::straight(straight);
         if !options.boundary_only {
             progress(Progress::Step(Step::Elasticity));
             let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
             attempt.sliding_nodes = bc.sliding.len();
-            let solution = solve_displacement_with_progress(
-                &mesh,
-                &options.material,
-                &bc,
-                &options.solver,
-                &mut |p| progress(Progress::Elasticity(p)),
-            )?;
+            let mut report = |p| progress(Progress::Elasticity(p));
+            let solution = match stiffening {
+                None => solve_displacement_with_progress(
+                    &mesh,
+                    &options.material,
+                    &bc,
+                    &options.solver,
+                    &mut report,
+                )?,
+                Some(stiffening) => solve_displacement_stiffened(
+                    &mesh,
+                    &options.material,
+                    stiffening,
+                    &bc,
+                    &options.solver,
+                    &mut report,
+                )?,
+            };
             let residual = solution.relative_residual;
             if residual.is_nan() || residual > options.solver.tolerance.max(1e-8) {
                 return Err(CurveError::NotConverged {
@@ -820,6 +924,8 @@ impl Attempt {
             edges_split: 0,
             quadrilaterals_split: 0,
             doubly_curved_cells: Vec::new(),
+            uncertified_after_solve: 0,
+            stiffened_resolve: None,
             untangled_elements: 0,
             untangle_rounds: 0,
             unused_node_tags: Vec::new(),

@@ -6,7 +6,7 @@
 
 use std::collections::BTreeSet;
 
-use hocurve_mesh::HighOrderMesh;
+use hocurve_mesh::{ElementType, HighOrderMesh};
 use hocurve_quality::{MeshQuality, Validity};
 use hocurve_untangle::{untangle, UntangleOptions};
 
@@ -37,6 +37,45 @@ pub fn not_certified(quality: &MeshQuality) -> Vec<usize> {
         );
     }
     cells.into_iter().collect()
+}
+
+/// Tezduyar's Jacobian-based stiffening: cell c's Young's modulus scaled by
+/// max_k |J_k| / |J_c| (≥ 1), J_c the Jacobian of c's straight shape at its first vertex,
+/// so that small cells (the thin layers at a wall) move rigidly instead of absorbing the
+/// boundary's displacement by shearing.
+pub fn jacobian_stiffening(straight: &HighOrderMesh) -> Vec<f64> {
+    let corner = |cell: &hocurve_mesh::HighOrderElement| -> f64 {
+        // The vertices joined to vertex 0 by an edge, in Gmsh's vertex order.
+        let neighbours: &[usize] = match cell.kind {
+            ElementType::Quad => &[1, 3],
+            ElementType::Hex => &[1, 3, 4],
+            ElementType::Tri => &[1, 2],
+            _ => &[1, 2, 3],
+        };
+        let x = |k: usize| straight.nodes[cell.nodes[k] as usize];
+        let mut m = [[0.0, 0.0, 1.0_f64]; 3];
+        for (row, &k) in m.iter_mut().zip(neighbours) {
+            *row = [x(k)[0] - x(0)[0], x(k)[1] - x(0)[1], x(k)[2] - x(0)[2]];
+        }
+        (m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]))
+            .abs()
+    };
+    let jacobians: Vec<f64> = straight.cells.iter().map(corner).collect();
+    let largest = jacobians.iter().copied().fold(0.0, f64::max);
+    jacobians
+        .iter()
+        .map(|&j| {
+            let s = largest / j;
+            // A degenerate straight cell (rejected on input) would give ∞: left as it is.
+            if s.is_finite() {
+                s.max(1.0)
+            } else {
+                1.0
+            }
+        })
+        .collect()
 }
 
 /// Untangles the patches around the elements of `mesh` that `quality` does not certify,

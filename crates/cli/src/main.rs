@@ -138,11 +138,11 @@ struct MethodArgs {
     /// the sampled scaled Jacobian alone can miss det J < 0 near a vertex or face.
     #[arg(long)]
     no_certify: bool,
-    /// Do not repair elements the certification finds invalid (by default the free nodes
-    /// around them are untangled, boundary nodes held on the geometry); they then end the
-    /// run with exit 1.
+    /// Do not repair elements the certification finds invalid (by default the mesh is solved
+    /// again with small cells stiffer, then the free nodes around what is still invalid are
+    /// untangled, boundary nodes held on the geometry); they then end the run with exit 1.
     #[arg(long)]
-    no_untangle: bool,
+    no_repair: bool,
     /// Run even when the estimated peak memory exceeds this machine's memory.
     #[arg(long)]
     ignore_memory_estimate: bool,
@@ -375,7 +375,8 @@ impl MethodArgs {
         options.slide = self.slide.clone();
         options.boundary_only = self.boundary_only;
         options.certify = !self.no_certify;
-        options.untangle = !self.no_untangle;
+        options.untangle = !self.no_repair;
+        options.stiffen = !self.no_repair;
         Ok(options)
     }
 }
@@ -609,11 +610,8 @@ fn uncertified_elements(linear: &LinearMesh, curved: &CurvedMesh) -> Uncertified
     } else {
         "the elastic solve".to_string()
     };
-    if r.untangle_rounds > 0 {
-        step += &format!(
-            ", then {} round(s) of untangling the patches around {} element(s)",
-            r.untangle_rounds, r.untangled_elements
-        );
+    if r.uncertified_after_solve > 0 && !r.repair_steps().is_empty() {
+        step += &format!(", then {}", r.repair_steps());
     }
     Uncertified(named, step)
 }
@@ -774,12 +772,18 @@ fn print_summary_table(curved: &CurvedMesh, out: &Path) {
         },
     ));
     rows.push(("invalid elements", r.invalid_elements.to_string()));
-    if r.untangle_rounds > 0 {
+    if r.uncertified_after_solve > 0 {
+        let steps = r.repair_steps();
         rows.push((
             "repair",
             format!(
-                "{} element(s) not certified after the elastic solve; their patches untangled in {} round(s)",
-                r.untangled_elements, r.untangle_rounds
+                "{} element(s) not certified after the elastic solve; {}",
+                r.uncertified_after_solve,
+                if steps.is_empty() {
+                    "not repaired (--no-repair)"
+                } else {
+                    &steps
+                }
             ),
         ));
     }

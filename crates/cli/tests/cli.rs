@@ -160,7 +160,7 @@ fn bad_requests_fail_with_one_line_and_leave_no_output() {
 /// by its Gmsh tag, and write nothing — unless `--allow-invalid`, which writes the mesh and
 /// still exits non-zero. The thin layers on a very coarse sphere at p = 2 leave 117 elements
 /// invalid after the elastic solve; the repair fixes them, so it is switched off here
-/// (`--no-untangle`), and the default run succeeds.
+/// (`--no-repair`), and the default run succeeds.
 #[test]
 fn uncertified_elements_fail_the_run_and_are_named() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
@@ -186,7 +186,7 @@ fn uncertified_elements_fail_the_run_and_are_named() {
         let refs: Vec<&str> = a.iter().map(String::as_str).collect();
         hocurve(&refs, dir.path())
     };
-    let out = run(&["--no-untangle"]);
+    let out = run(&["--no-repair"]);
     assert!(!out.status.success());
     let err = stderr(&out);
     assert!(err.contains("not certified valid"), "{err}");
@@ -195,7 +195,7 @@ fn uncertified_elements_fail_the_run_and_are_named() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(!dir.path().join("out.vtu").exists());
 
-    let out = run(&["--no-untangle", "--allow-invalid"]);
+    let out = run(&["--no-repair", "--allow-invalid"]);
     assert!(!out.status.success());
     assert!(stderr(&out).contains("written anyway"), "{}", stderr(&out));
     assert!(dir.path().join("out.vtu").exists());

@@ -55,17 +55,22 @@ pub(crate) fn assemble(
     mesh: &HighOrderMesh,
     material: &Material,
 ) -> Result<Assembled, ElasticError> {
-    assemble_with_progress(mesh, material, &mut |_| {})
+    assemble_with_progress(mesh, material, None, &mut |_| {})
 }
 
-/// [`assemble`], calling `progress` with the fraction of cells done after each colour.
+/// [`assemble`], each cell c's Lamé parameters multiplied by `stiffening[c]` when given,
+/// calling `progress` with the fraction of cells done after each colour.
 pub(crate) fn assemble_with_progress(
     mesh: &HighOrderMesh,
     material: &Material,
+    stiffening: Option<&[f64]>,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Assembled, ElasticError> {
     material.validate()?;
     check_dim(mesh)?;
+    if let Some(scale) = stiffening {
+        check_stiffening(mesh, scale)?;
+    }
     let references = ReferenceElement::for_mesh(mesh)?;
     let dim = mesh.dim;
     let (lambda, mu) = material.lame();
@@ -110,7 +115,8 @@ pub(crate) fn assemble_with_progress(
                 scratch
                     .coords
                     .extend(cell.nodes.iter().map(|&n| mesh.nodes[n as usize]));
-                element_stiffness(reference, lambda, mu, c, scratch)?;
+                let s = stiffening.map_or(1.0, |scale| scale[c]);
+                element_stiffness(reference, s * lambda, s * mu, c, scratch)?;
                 let size = cell.nodes.len() * dim;
                 for (a, &na) in cell.nodes.iter().enumerate() {
                     let row = graph.row(na as usize);
@@ -144,6 +150,21 @@ pub(crate) fn assemble_with_progress(
         graph,
         cells_of_node,
     })
+}
+
+/// Error unless `scale` holds one finite positive factor per cell of `mesh`.
+fn check_stiffening(mesh: &HighOrderMesh, scale: &[f64]) -> Result<(), ElasticError> {
+    if scale.len() != mesh.cells.len() {
+        return Err(ElasticError::InvalidStiffening {
+            reason: format!("{} factors for {} cells", scale.len(), mesh.cells.len()),
+        });
+    }
+    match scale.iter().position(|s| !(s.is_finite() && *s > 0.0)) {
+        Some(c) => Err(ElasticError::InvalidStiffening {
+            reason: format!("cell {c} has factor {}", scale[c]),
+        }),
+        None => Ok(()),
+    }
 }
 
 /// The load vector F_(a,c) = ∫ Φ_a f_c dx of a body force, integrated with the degree-(2p+2)

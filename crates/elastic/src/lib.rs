@@ -61,8 +61,9 @@ pub use boundary::{boundary_nodes, BoundaryConditions};
 pub use error_norm::displacement_l2_error;
 pub use material::Material;
 pub use solve::{
-    solve_displacement, solve_displacement_with_load, solve_displacement_with_progress,
-    ElasticSolution, SolveProgress, SolverKind, SolverOptions, Timings,
+    solve_displacement, solve_displacement_stiffened, solve_displacement_with_load,
+    solve_displacement_with_progress, ElasticSolution, SolveProgress, SolverKind, SolverOptions,
+    Timings,
 };
 
 use hocurve_mesh::MeshError;
@@ -71,6 +72,12 @@ use hocurve_nodes::NodesError;
 /// Errors of the elasticity step.
 #[derive(Debug, thiserror::Error)]
 pub enum ElasticError {
+    /// Per-cell stiffening factors that are not one finite positive number per cell.
+    #[error("invalid stiffening: {reason}")]
+    InvalidStiffening {
+        /// What is wrong.
+        reason: String,
+    },
     /// Young's modulus or Poisson's ratio outside the physical range.
     #[error("invalid material: E = {young}, ν = {poisson} (need E > 0 and −1 < ν < 0.5)")]
     InvalidMaterial {

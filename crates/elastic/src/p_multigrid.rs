@@ -29,7 +29,7 @@ use hocurve_mesh::HighOrderMesh;
 use hocurve_nodes::{LagrangeBasis, ReferenceNodes, Shape};
 use rayon::prelude::*;
 
-use crate::assembly::assemble;
+use crate::assembly::assemble_with_progress;
 use crate::block_jacobi::{dof_cuts, entity_node_cuts};
 use crate::block_matrix::{BlockOperator, BlockPattern};
 use crate::condensation::{condense_matrix, Constraints};
@@ -99,6 +99,7 @@ impl<'a> PMultigrid<'a> {
         mesh: &HighOrderMesh,
         cells_of_node: &Adjacency,
         material: &Material,
+        stiffening: Option<&[f64]>,
         degree: usize,
     ) -> Result<Self, ElasticError> {
         let start = Instant::now();
@@ -147,7 +148,8 @@ impl<'a> PMultigrid<'a> {
             if coarse_constraints.len() == 0 {
                 break;
             }
-            let assembled = assemble(&coarse, material)?;
+            // The coarse mesh has the fine mesh's cells, in the same order.
+            let assembled = assemble_with_progress(&coarse, material, stiffening, &mut |_| {})?;
             let condensed =
                 condense_matrix(&assembled.matrix, &assembled.graph, &coarse_constraints);
             let level = LevelMesh {

@@ -145,7 +145,7 @@ pub fn solve_displacement_with_load(
     body_force: Option<&BodyForce<'_>>,
     options: &SolverOptions,
 ) -> Result<ElasticSolution, ElasticError> {
-    solve(mesh, material, bc, body_force, options, &mut |_| {})
+    solve(mesh, material, None, bc, body_force, options, &mut |_| {})
 }
 
 /// [`solve_displacement`], reporting the assembly's and the solve's progress to
@@ -157,12 +157,36 @@ pub fn solve_displacement_with_progress(
     options: &SolverOptions,
     progress: &mut dyn FnMut(SolveProgress),
 ) -> Result<ElasticSolution, ElasticError> {
-    solve(mesh, material, bc, None, options, progress)
+    solve(mesh, material, None, bc, None, options, progress)
+}
+
+/// [`solve_displacement_with_progress`] with cell c's Young's modulus multiplied by
+/// `stiffening[c]` (finite, > 0; one per cell): a solid stiffer where it must not distort,
+/// e.g. E_c ∝ 1/|J_c| so that small cells move rigidly (Tezduyar's Jacobian-based
+/// stiffening).
+pub fn solve_displacement_stiffened(
+    mesh: &HighOrderMesh,
+    material: &Material,
+    stiffening: &[f64],
+    bc: &BoundaryConditions,
+    options: &SolverOptions,
+    progress: &mut dyn FnMut(SolveProgress),
+) -> Result<ElasticSolution, ElasticError> {
+    solve(
+        mesh,
+        material,
+        Some(stiffening),
+        bc,
+        None,
+        options,
+        progress,
+    )
 }
 
 fn solve(
     mesh: &HighOrderMesh,
     material: &Material,
+    stiffening: Option<&[f64]>,
     bc: &BoundaryConditions,
     body_force: Option<&BodyForce<'_>>,
     options: &SolverOptions,
@@ -178,7 +202,7 @@ fn solve(
         matrix: stiffness,
         graph,
         cells_of_node,
-    } = assemble_with_progress(mesh, material, &mut |fraction| {
+    } = assemble_with_progress(mesh, material, stiffening, &mut |fraction| {
         progress(SolveProgress::Assembly { fraction })
     })?;
     let dim = mesh.dim;
@@ -242,6 +266,7 @@ fn solve(
                     mesh,
                     &cells_of_node,
                     material,
+                    stiffening,
                     options.smoother_degree,
                 )?;
                 coarse_setup = preconditioner.coarse_seconds;

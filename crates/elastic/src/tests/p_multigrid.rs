@@ -275,6 +275,7 @@ fn iterations(n: usize, p: usize) -> (usize, usize) {
         &mesh,
         &cells_of_node,
         &Material::default(),
+        None,
         3,
     )
     .unwrap();
