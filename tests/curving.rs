@@ -14,8 +14,24 @@ use hocurve::geodesic::AssociationRule;
 use hocurve::interpolation::{domain_measure, unit_square_mesh};
 use hocurve::mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
 use hocurve::nodes::NodeFamily;
-use hocurve::nurbs::parse_geometry_json;
+use hocurve::nurbs::{parse_geometry_json, GeometryModel};
 use hocurve::pipeline::{curve_mesh, CurveError, CurveOptions, CurvedMesh, Geometry};
+
+/// The sphere named "sphere" about the origin.
+fn sphere_of_radius(radius: f64) -> GeometryModel {
+    parse_geometry_json(&format!(
+        r#"{{"entities": [{{"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": {radius}}}]}}"#
+    ))
+    .unwrap()
+}
+
+/// `model`, its entities associated with the mesh by physical-group name.
+fn by_name(model: &GeometryModel) -> Geometry<'_> {
+    Geometry {
+        model,
+        rule: AssociationRule::NameOnly,
+    }
+}
 
 fn curve_demo(demo: Demo, order: usize) -> CurvedMesh {
     let linear = demo.mesh().unwrap();
@@ -146,14 +162,8 @@ fn same_input_same_bits_for_any_thread_count() {
 fn a_geometry_that_does_not_match_the_mesh_is_an_error() {
     let linear = Demo::Sphere.mesh().unwrap();
     // A sphere of radius 2: every vertex of the "sphere" group is 1 away.
-    let model = parse_geometry_json(
-        r#"{"entities": [{"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": 2}]}"#,
-    )
-    .unwrap();
-    let geometry = Geometry {
-        model: &model,
-        rule: AssociationRule::NameOnly,
-    };
+    let model = sphere_of_radius(2.0);
+    let geometry = by_name(&model);
     let err = curve_mesh(&linear, Some(geometry), &CurveOptions::new(2), &mut |_| {})
         .err()
         .unwrap();
@@ -331,14 +341,8 @@ fn sliding_groups_keep_their_nodes_in_their_plane_and_move_them_along_it() {
 fn written_boundary_nodes_lie_on_the_geometry_whatever_family_curved_them() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let linear = hocurve::io::read_msh(&root.join("fixtures/cad/sphere_coarse.msh")).unwrap();
-    let model = parse_geometry_json(
-        r#"{"entities": [{"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": 1}]}"#,
-    )
-    .unwrap();
-    let geometry = Geometry {
-        model: &model,
-        rule: AssociationRule::NameOnly,
-    };
+    let model = sphere_of_radius(1.0);
+    let geometry = by_name(&model);
     for family in [NodeFamily::Fekete, NodeFamily::Equispaced] {
         let mut options = CurveOptions::new(3);
         options.family = family;
@@ -382,13 +386,14 @@ fn written_boundary_nodes_lie_on_the_geometry_whatever_family_curved_them() {
     }
 }
 
-/// Repair (issue 18, point 2): a quarter annulus with one cell (or two) around the wall
-/// and a first ring of cells 1/100 to 1/1000 of the radius thick. The wall's arcs bulge by
-/// 0.29 (0.08) into cells that thin, and the elastic analogy leaves elements inverted; the
-/// untangling of their patches makes every element certified valid, without moving a
-/// boundary node.
-#[test]
-fn elements_the_elastic_solve_leaves_inverted_are_untangled_until_certified() {
+/// Quarter annuli with one cell (or two) around the wall and a first ring of cells 1/100
+/// to 1/1000 of the radius thick, at p = 2..4: the wall's arcs bulge by 0.29 (0.08) into
+/// cells that thin, and the elastic analogy leaves elements inverted. Each case is curved
+/// with no repair, then with the repair steps `enable` switches on; `check` gets both.
+fn thin_wall_annuli(
+    enable: fn(&mut CurveOptions),
+    mut check: impl FnMut(&str, &CurvedMesh, &CurvedMesh),
+) {
     let model = parse_geometry_json(
         r#"{"entities": [{"name": "wall", "kind": "circle", "center": [0, 0], "radius": 1}]}"#,
     )
@@ -397,111 +402,106 @@ fn elements_the_elastic_solve_leaves_inverted_are_untangled_until_certified() {
         model: &model,
         rule: AssociationRule::NameOnly,
     };
-    let mut repaired = 0;
     for first in [0.01, 0.001] {
         for n in [1, 2] {
             for p in [2, 3, 4] {
                 let linear = graded_quarter_annulus(n, &[1.0, 1.0 + first, 1.5, 2.0]);
                 let mut options = CurveOptions::new(p);
-                // The untangling alone (the stiffened solve is tested on its own below).
                 options.stiffen = false;
                 options.untangle = false;
-                let elastic = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
-                options.untangle = true;
+                let plain = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+                enable(&mut options);
                 let curved = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
-                let case = format!("first {first}, {n} around, p = {p}");
-                let r = &curved.report;
-                assert_eq!(r.invalid_elements, 0, "{case}: {r:?}");
-                assert_eq!(r.certified_valid_elements, Some(r.elements), "{case}");
-                assert!(r.min_scaled_jacobian_lower_bound.unwrap() > 0.0, "{case}");
-                let not_valid =
-                    elastic.report.elements - elastic.report.certified_valid_elements.unwrap();
-                assert_eq!(r.untangled_elements, not_valid, "{case}");
-                if not_valid > 0 {
-                    repaired += 1;
-                    assert!(r.untangle_rounds >= 1, "{case}");
-                }
-                // Boundary nodes stay where the placement put them (bit for bit).
-                for (_, nodes) in curved.mesh.boundary_facet_nodes().unwrap() {
-                    for k in nodes {
-                        assert_eq!(
-                            curved.mesh.nodes[k as usize], elastic.mesh.nodes[k as usize],
-                            "{case}: boundary node {k} moved"
-                        );
-                    }
-                }
-                for &k in &group_nodes(&curved.mesh, "wall") {
-                    let x = curved.mesh.nodes[k as usize];
-                    assert!((x[0].hypot(x[1]) - 1.0).abs() < 1e-13, "{case}: {x:?}");
-                }
+                check(
+                    &format!("first {first}, {n} around, p = {p}"),
+                    &plain,
+                    &curved,
+                );
             }
         }
     }
+}
+
+/// Elements not certified valid (det J ≤ 0 found, or undecided).
+fn not_certified(r: &hocurve::pipeline::CurveReport) -> usize {
+    r.elements - r.certified_valid_elements.unwrap()
+}
+
+/// Every boundary node of `curved` within `tolerance` of where it is in `plain`.
+fn assert_boundary_kept(case: &str, plain: &CurvedMesh, curved: &CurvedMesh, tolerance: f64) {
+    for (_, nodes) in curved.mesh.boundary_facet_nodes().unwrap() {
+        for k in nodes {
+            let (a, b) = (curved.mesh.nodes[k as usize], plain.mesh.nodes[k as usize]);
+            let moved = (a[0] - b[0]).hypot(a[1] - b[1]);
+            assert!(
+                moved <= tolerance,
+                "{case}: boundary node {k} moved by {moved:e}"
+            );
+        }
+    }
+}
+
+/// Repair by untangling (issue 18, point 2), on its own: on the thin-walled annuli every
+/// element ends certified valid, and no boundary node moves (bit for bit).
+#[test]
+fn elements_the_elastic_solve_leaves_inverted_are_untangled_until_certified() {
+    let mut repaired = 0;
+    thin_wall_annuli(
+        |options| options.untangle = true,
+        |case, elastic, curved| {
+            let r = &curved.report;
+            assert_eq!(r.invalid_elements, 0, "{case}: {r:?}");
+            assert_eq!(r.certified_valid_elements, Some(r.elements), "{case}");
+            assert!(r.min_scaled_jacobian_lower_bound.unwrap() > 0.0, "{case}");
+            let not_valid = not_certified(&elastic.report);
+            assert_eq!(r.untangled_elements, not_valid, "{case}");
+            if not_valid > 0 {
+                repaired += 1;
+                assert!(r.untangle_rounds >= 1, "{case}");
+            }
+            assert_boundary_kept(case, elastic, curved, 0.0);
+            for &k in &group_nodes(&curved.mesh, "wall") {
+                let x = curved.mesh.nodes[k as usize];
+                assert!((x[0].hypot(x[1]) - 1.0).abs() < 1e-13, "{case}: {x:?}");
+            }
+        },
+    );
     // The elastic solve alone fails on most of these (measured: 7 of 12).
     assert!(repaired >= 6, "only {repaired} cases needed a repair");
 }
 
-/// Repair, first step (issue 18, point 2): on the quarter annuli of the untangling test,
-/// the solve again with each cell's stiffness scaled by 1/|J| of its straight shape (small
-/// cells stiffer) is tried exactly when elements are not certified after the first solve,
-/// kept only when it leaves fewer of them, and leaves the boundary nodes where they were.
+/// Repair, first step (issue 18, point 2): on the thin-walled annuli, the solve again with
+/// each cell's stiffness scaled by 1/|J| of its straight shape (small cells stiffer) is
+/// tried exactly when elements are not certified after the first solve, kept only when it
+/// leaves fewer of them, and leaves the boundary nodes where they were.
 #[test]
 fn a_stiffened_solve_is_tried_when_elements_are_not_certified_and_kept_when_better() {
-    let model = parse_geometry_json(
-        r#"{"entities": [{"name": "wall", "kind": "circle", "center": [0, 0], "radius": 1}]}"#,
-    )
-    .unwrap();
-    let geometry = Geometry {
-        model: &model,
-        rule: AssociationRule::NameOnly,
-    };
     let (mut tried, mut fixed) = (0, 0);
-    for first in [0.01, 0.001] {
-        for n in [1, 2] {
-            for p in [2, 3, 4] {
-                let linear = graded_quarter_annulus(n, &[1.0, 1.0 + first, 1.5, 2.0]);
-                let mut options = CurveOptions::new(p);
-                options.untangle = false;
-                options.stiffen = false;
-                let plain = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
-                options.stiffen = true;
-                let curved = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
-                let case = format!("first {first}, {n} around, p = {p}");
-                let (before, r) = (&plain.report, &curved.report);
-                let not_certified = |r: &hocurve::pipeline::CurveReport| {
-                    r.elements - r.certified_valid_elements.unwrap()
-                };
-                assert_eq!(r.uncertified_after_solve, not_certified(before), "{case}");
-                match r.stiffened_resolve {
-                    None => {
-                        assert_eq!(not_certified(before), 0, "{case}");
-                        assert_eq!(curved.mesh.nodes, plain.mesh.nodes, "{case}");
-                    }
-                    Some(kept) => {
-                        tried += 1;
-                        assert!(not_certified(before) > 0, "{case}");
-                        assert_eq!(kept, curved.mesh.nodes != plain.mesh.nodes, "{case}");
-                        assert!(not_certified(r) <= not_certified(before), "{case}");
-                        if not_certified(r) == 0 {
-                            fixed += 1;
-                        }
-                    }
+    thin_wall_annuli(
+        |options| options.stiffen = true,
+        |case, plain, curved| {
+            let (before, r) = (&plain.report, &curved.report);
+            assert_eq!(r.uncertified_after_solve, not_certified(before), "{case}");
+            match r.stiffened_resolve {
+                None => {
+                    assert_eq!(not_certified(before), 0, "{case}");
+                    assert_eq!(curved.mesh.nodes, plain.mesh.nodes, "{case}");
                 }
-                // Boundary nodes where they were, up to the round-off of the interpolation
-                // from the Fekete nodes the mesh is curved on to the equispaced ones written.
-                for (_, nodes) in curved.mesh.boundary_facet_nodes().unwrap() {
-                    for k in nodes {
-                        let (a, b) = (curved.mesh.nodes[k as usize], plain.mesh.nodes[k as usize]);
-                        let moved = (a[0] - b[0]).hypot(a[1] - b[1]);
-                        assert!(
-                            moved < 1e-14,
-                            "{case}: boundary node {k} moved by {moved:e}"
-                        );
+                Some(kept) => {
+                    tried += 1;
+                    assert!(not_certified(before) > 0, "{case}");
+                    assert_eq!(kept, curved.mesh.nodes != plain.mesh.nodes, "{case}");
+                    assert!(not_certified(r) <= not_certified(before), "{case}");
+                    if not_certified(r) == 0 {
+                        fixed += 1;
                     }
                 }
             }
-        }
-    }
+            // Up to the round-off of the interpolation from the Fekete nodes the mesh is
+            // curved on to the equispaced ones written.
+            assert_boundary_kept(case, plain, curved, 1e-14);
+        },
+    );
     println!("stiffened solve tried on {tried} cases, {fixed} certified by it alone");
     assert!(tried >= 6, "{tried}");
     assert!(fixed >= 1, "{fixed}");
@@ -591,14 +591,8 @@ fn a_prism_with_two_faces_on_one_curved_entity_is_named_as_the_cause() {
 fn the_repair_gives_the_same_bits_for_any_thread_count() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
     let linear = hocurve::io::read_msh(&root.join("fixtures/cad/sphere_layers_thin.msh")).unwrap();
-    let model = parse_geometry_json(
-        r#"{"entities": [{"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": 1}]}"#,
-    )
-    .unwrap();
-    let geometry = Geometry {
-        model: &model,
-        rule: AssociationRule::NameOnly,
-    };
+    let model = sphere_of_radius(1.0);
+    let geometry = by_name(&model);
     let run = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -674,14 +668,8 @@ fn sliver_cap() -> LinearMesh {
 /// `--min-angle 0` gives, bit for bit, and never certified worse than it.
 #[test]
 fn a_correction_is_kept_only_where_every_element_on_it_is_better_certified() {
-    let model = parse_geometry_json(
-        r#"{"entities": [{"name": "sphere", "kind": "sphere", "center": [0, 0, 0], "radius": 1}]}"#,
-    )
-    .unwrap();
-    let geometry = Geometry {
-        model: &model,
-        rule: AssociationRule::NameOnly,
-    };
+    let model = sphere_of_radius(1.0);
+    let geometry = by_name(&model);
     let linear = sliver_cap();
     let (mut kept, mut undone) = (0, 0);
     for p in 3..=6 {
