@@ -8,9 +8,14 @@
 
 pub mod demo;
 pub mod interpolation;
+pub mod job;
 pub mod memory;
 pub mod pipeline;
+pub mod progress;
 pub mod repair;
+pub mod summary;
+pub mod verdict;
+pub mod written;
 
 pub use hocurve_elastic as elastic;
 pub use hocurve_geodesic as geodesic;

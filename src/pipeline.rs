@@ -5,7 +5,7 @@
 //! 2. [`associate_boundary`] ties boundary facets to geometry entities;
 //! 3. [`place_boundary_nodes_with`] puts their nodes on the true curves/surfaces (arc length,
 //!    geodesics, Eqs. (4)–(7));
-//! 4. [`solve_displacement`] carries the boundary displacement into the domain by linear
+//! 4. [`hocurve_elastic::solve_displacement`] carries the boundary displacement into the domain by linear
 //!    elasticity (Sect. 3.2), with curved nodes prescribed, `slide` groups sliding in their
 //!    plane and every other boundary node fixed;
 //! 5. [`assess`] measures the scaled Jacobian (Eq. (8)) and stretching.
@@ -15,7 +15,7 @@ use std::time::Instant;
 
 use hocurve_elastic::{
     solve_displacement_stiffened, solve_displacement_with_progress, BoundaryConditions,
-    ElasticError, Material, SolveProgress, SolverKind, SolverOptions,
+    ElasticError, Material, SolverKind, SolverOptions,
 };
 use hocurve_geodesic::{
     associate_boundary, place_boundary_nodes_with, project_nodes_onto_geometry, AssociationRule,
@@ -27,6 +27,8 @@ use hocurve_nurbs::vec3::{cross, dot, norm, sub};
 use hocurve_nurbs::GeometryModel;
 use hocurve_quality::{assess, BezierOptions, MeshQuality, QualityError, QualityOptions, Validity};
 use serde::Serialize;
+
+pub use crate::progress::{Progress, Step};
 
 /// Errors of the curving pipeline: one step's error, or a problem with the request.
 #[derive(Debug, thiserror::Error)]
@@ -149,46 +151,6 @@ impl CurveOptions {
             stiffen: true,
         }
     }
-}
-
-/// A step of the pipeline, announced to the progress callback before it runs.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Step {
-    /// Placing the order-p nodes on the straight elements.
-    HighOrderNodes,
-    /// Associating boundary facets with geometry entities.
-    Association,
-    /// Placing boundary nodes on the geometry.
-    BoundaryNodes,
-    /// Assembling and solving the elasticity problem.
-    Elasticity,
-    /// Measuring the curved mesh.
-    Quality,
-    /// Untangling the elements not certified valid.
-    Repair,
-}
-
-impl Step {
-    /// What the step does, for progress messages.
-    pub fn describe(self) -> &'static str {
-        match self {
-            Step::HighOrderNodes => "placing high-order nodes",
-            Step::Repair => "untangling elements not certified valid",
-            Step::Association => "associating the boundary with the geometry",
-            Step::BoundaryNodes => "placing boundary nodes on the geometry",
-            Step::Elasticity => "solving linear elasticity",
-            Step::Quality => "measuring quality",
-        }
-    }
-}
-
-/// What [`curve_mesh`] reports while it runs.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Progress {
-    /// A step starts.
-    Step(Step),
-    /// Progress inside the elasticity step (assembly fraction, set-up, CG iterations).
-    Elasticity(SolveProgress),
 }
 
 /// Seconds spent per step (0 for steps not run). `read` and `write` are the caller's.

@@ -26,6 +26,21 @@ pub enum SolverKind {
     Cg,
 }
 
+impl std::str::FromStr for SolverKind {
+    type Err = String;
+    /// "auto", "direct" or "cg" (as on the command line).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "auto" => Ok(Self::Auto),
+            "direct" => Ok(Self::Direct),
+            "cg" => Ok(Self::Cg),
+            _ => Err(format!(
+                "unknown solver \"{s}\" (expected auto, direct or cg)"
+            )),
+        }
+    }
+}
+
 /// Options of [`solve_displacement`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SolverOptions {

@@ -1,7 +1,5 @@
 //! Errors of the quality crate.
 
-use std::path::PathBuf;
-
 use hocurve_mesh::ElementType;
 use hocurve_nodes::Shape;
 
@@ -89,14 +87,9 @@ pub enum QualityError {
     #[error("could not write the summary as JSON: {0}")]
     Json(#[from] serde_json::Error),
     /// Drawing a plot failed.
-    #[error("could not draw the plot {path}: {message}")]
+    #[error("could not draw a histogram: {message}")]
     Plot {
-        /// Output file.
-        path: PathBuf,
         /// What the plotting library said.
         message: String,
     },
-    /// Writing a file failed (the error names the file).
-    #[error(transparent)]
-    Io(#[from] hocurve_io::IoError),
 }

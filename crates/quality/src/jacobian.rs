@@ -28,6 +28,21 @@ pub enum Sampling {
     Both,
 }
 
+impl std::str::FromStr for Sampling {
+    type Err = String;
+    /// "quadrature", "nodes" or "both" (as on the command line).
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s {
+            "quadrature" => Ok(Self::Quadrature),
+            "nodes" => Ok(Self::Nodes),
+            "both" => Ok(Self::Both),
+            _ => Err(format!(
+                "unknown sampling \"{s}\" (expected quadrature, nodes or both)"
+            )),
+        }
+    }
+}
+
 /// Gradients of the Lagrange basis of one (shape, order, family) at a fixed set of reference
 /// points, laid out so that the Jacobians of an element at all points are one axpy-friendly
 /// product.

@@ -2,7 +2,7 @@
 //! Jacobian Ĩ = min det J / |max det J| of its Eq. (8) sampled at the degree-2p quadrature
 //! points ([`scaled_jacobian`]), a guaranteed validity check from Bézier bounds on det J
 //! ([`check_validity`], beyond the paper), stretching ([`stretching`]), and the summary and
-//! histograms of its figures ([`QualitySummary`], [`write_histogram_svg`]).
+//! histograms of its figures ([`QualitySummary`], [`scaled_jacobian_histogram_svg`]).
 //!
 //! ```
 //! use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
@@ -50,7 +50,7 @@ pub use jacobian::{
     jacobian_determinants, scaled_jacobian, scaled_ratio, JacobianSampler, JacobianWorkspace,
     Sampling,
 };
-pub use plot::{histogram_svg, write_histogram_svg, write_stretching_histogram_svg};
+pub use plot::{histogram_svg, scaled_jacobian_histogram_svg, stretching_histogram_svg};
 pub use stretching::stretching;
 pub use summary::{
     scaled_jacobian_bin, Histogram, HistogramBin, QualitySummary, ValidityCounts,

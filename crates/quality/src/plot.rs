@@ -3,42 +3,29 @@
 //! Text needs no font files: the backend writes `<text>` elements and plotters estimates
 //! their extent.
 
-use std::io::Write;
-use std::path::Path;
-
 use plotters::prelude::*;
 
 use crate::{Histogram, QualityError, QualitySummary};
 
-/// Writes the scaled-Jacobian histogram of `summary` to `path` as SVG (atomically).
-pub fn write_histogram_svg(path: &Path, summary: &QualitySummary) -> Result<(), QualityError> {
-    let svg = histogram_svg(
+/// The scaled-Jacobian histogram of `summary` as an SVG document (writing it is the
+/// caller's: this crate measures, it does not touch files).
+pub fn scaled_jacobian_histogram_svg(summary: &QualitySummary) -> Result<String, QualityError> {
+    histogram_svg(
         &summary.scaled_jacobian_histogram,
         "Scaled Jacobian",
         "scaled Jacobian (bin upper edge; ≤0 = invalid)",
     )
-    .map_err(|message| QualityError::Plot {
-        path: path.to_path_buf(),
-        message,
-    })?;
-    write_atomically(path, svg.as_bytes())
+    .map_err(|message| QualityError::Plot { message })
 }
 
-/// Writes the stretching histogram of `summary` to `path` as SVG (atomically).
-pub fn write_stretching_histogram_svg(
-    path: &Path,
-    summary: &QualitySummary,
-) -> Result<(), QualityError> {
-    let svg = histogram_svg(
+/// The stretching histogram of `summary` as an SVG document.
+pub fn stretching_histogram_svg(summary: &QualitySummary) -> Result<String, QualityError> {
+    histogram_svg(
         &summary.stretching_histogram,
         "Stretching",
         "longest / shortest edge",
     )
-    .map_err(|message| QualityError::Plot {
-        path: path.to_path_buf(),
-        message,
-    })?;
-    write_atomically(path, svg.as_bytes())
+    .map_err(|message| QualityError::Plot { message })
 }
 
 /// A bar chart of the histogram's percentages, as an SVG document.
@@ -91,19 +78,6 @@ pub fn histogram_svg(histogram: &Histogram, title: &str, x_label: &str) -> Resul
         root.present().map_err(|x| e(&x))?;
     }
     Ok(svg)
-}
-
-/// Writes `bytes` through a temporary file renamed over `path`, so that a failure never
-/// leaves a truncated plot.
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<(), QualityError> {
-    hocurve_io::write_atomically(path, |w| {
-        w.write_all(bytes)
-            .map_err(|source| hocurve_io::IoError::Os {
-                path: path.to_path_buf(),
-                source,
-            })
-    })?;
-    Ok(())
 }
 
 #[cfg(test)]

@@ -1,0 +1,115 @@
+//! The facade's whole job (`hocurve::job`), as a library user calls it: the same checks,
+//! refusals and outputs as the command line, without it.
+
+use std::path::{Path, PathBuf};
+
+use hocurve::job::{curve_and_write, read_geometry, Inputs, JobError, JobOptions, Outputs};
+use hocurve::pipeline::CurveOptions;
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fixtures/cad")
+        .join(name)
+}
+
+fn options(order: usize) -> JobOptions {
+    JobOptions {
+        curve: CurveOptions::new(order),
+        allow_invalid: false,
+        ignore_memory_estimate: false,
+    }
+}
+
+#[test]
+fn a_job_writes_the_mesh_the_report_and_the_plots_together() {
+    let dir = tempfile::tempdir().unwrap();
+    let outputs = Outputs {
+        mesh: dir.path().join("sphere.msh"),
+        report: Some(dir.path().join("report.json")),
+        plots: Some(dir.path().join("plots")),
+    };
+    outputs.check().unwrap();
+    let inputs = Inputs::read(
+        &fixture("sphere_coarse.msh"),
+        Some(&fixture("sphere_coarse.json")),
+    )
+    .unwrap();
+    let finished = curve_and_write(&inputs, &options(2), &outputs, &mut |_| {}).unwrap();
+    assert!(finished.defects.is_empty());
+    let r = &finished.curved.report;
+    assert_eq!(r.certified_valid_elements, Some(r.elements));
+    // The report describes the file written.
+    let written = hocurve::io::read_high_order_mesh(&outputs.mesh).unwrap();
+    assert_eq!(written.cells.len(), r.elements);
+    assert_eq!(written.nodes.len(), r.nodes);
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("report.json")).unwrap())
+            .unwrap();
+    assert_eq!(report["elements"].as_u64(), Some(r.elements as u64));
+    assert!(report["timings"]["total"].as_f64().unwrap() >= r.timings.write);
+    for plot in ["scaled_jacobian.svg", "stretching.svg"] {
+        let svg = std::fs::read_to_string(dir.path().join("plots").join(plot)).unwrap();
+        assert!(svg.starts_with("<svg"));
+    }
+}
+
+#[test]
+fn a_mesh_that_is_not_certified_is_rejected_and_nothing_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let outputs = Outputs {
+        mesh: dir.path().join("thin.vtu"),
+        report: Some(dir.path().join("report.json")),
+        plots: None,
+    };
+    let inputs = Inputs::read(
+        &fixture("sphere_layers_thin.msh"),
+        Some(&fixture("sphere_layers_thin.json")),
+    )
+    .unwrap();
+    let mut no_repair = options(2);
+    no_repair.curve.stiffen = false;
+    no_repair.curve.untangle = false;
+    match curve_and_write(&inputs, &no_repair, &outputs, &mut |_| {}) {
+        Err(JobError::Rejected { reason, curved }) => {
+            assert!(reason.contains("not certified valid"), "{reason}");
+            assert!(reason.contains("input element tag"), "{reason}");
+            assert!(curved.report.invalid_elements > 0);
+        }
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("an invalid mesh was accepted"),
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    // Allowed: written, and the defect still reported.
+    no_repair.allow_invalid = true;
+    let finished = curve_and_write(&inputs, &no_repair, &outputs, &mut |_| {}).unwrap();
+    assert_eq!(finished.defects.len(), 1);
+    assert!(outputs.mesh.exists());
+}
+
+#[test]
+fn outputs_and_geometry_formats_are_checked_by_extension() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut outputs = Outputs {
+        mesh: dir.path().join("out.stl"),
+        report: None,
+        plots: None,
+    };
+    assert!(matches!(
+        outputs.check(),
+        Err(JobError::UnknownOutputFormat { .. })
+    ));
+    outputs.mesh = dir.path().join("out.vtu");
+    let file = dir.path().join("plots");
+    std::fs::write(&file, "").unwrap();
+    outputs.plots = Some(file);
+    assert!(matches!(
+        outputs.check(),
+        Err(JobError::PlotsFolderIsFile { .. })
+    ));
+    outputs.plots = Some(dir.path().join("missing/plots"));
+    assert!(matches!(outputs.check(), Err(JobError::Io(_))));
+    assert!(matches!(
+        read_geometry(&dir.path().join("model.step")),
+        Err(JobError::UnknownGeometryFormat { .. })
+    ));
+}
