@@ -6,13 +6,19 @@
 //! quality ([`quality`]). [`pipeline::curve_mesh`] runs the whole method on a mesh and a
 //! geometry; [`demo::Demo`] holds the bundled example cases.
 
+mod attempt;
+mod boundary_conditions;
+mod certification;
+mod correction_choice;
 pub mod demo;
 pub mod interpolation;
 pub mod job;
 pub mod memory;
 pub mod pipeline;
+mod precurving;
 pub mod progress;
 pub mod repair;
+pub mod report;
 pub mod summary;
 pub mod verdict;
 pub mod written;

@@ -1,0 +1,277 @@
+//! One curving of the mesh: the boundary nodes placed on the geometry (or taken from an
+//! earlier placement), the elastic solve (uniform or stiffened), the mesh as written
+//! (equispaced nodes, boundary nodes projected back onto the geometry), and its certified
+//! quality.
+
+use std::time::Instant;
+
+use hocurve_elastic::{solve_displacement_stiffened, solve_displacement_with_progress, SolverKind};
+use hocurve_geodesic::{place_boundary_nodes_with, project_nodes_onto_geometry, PlacementOptions};
+use hocurve_mesh::{HighOrderMesh, LinearMesh};
+use hocurve_nodes::NodeFamily;
+use hocurve_quality::MeshQuality;
+
+use crate::boundary_conditions::boundary_conditions;
+use crate::certification::{assess_certified, invalid_elements};
+use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, Step};
+use crate::report::{CurveReport, StepTimings};
+
+/// Where an [`Attempt`]'s boundary nodes come from.
+pub(crate) enum Boundary<'a> {
+    /// Placed on the geometry with these options.
+    Place {
+        geometry: Geometry<'a>,
+        association: &'a hocurve_geodesic::BoundaryAssociation,
+        placement: &'a PlacementOptions,
+    },
+    /// Placed already (by an earlier attempt); the solid stiffened cell by cell.
+    Stiffened {
+        targets: &'a hocurve_geodesic::BoundaryTargets,
+        stiffening: &'a [f64],
+    },
+}
+
+/// One curving of the mesh: boundary nodes placed, the displacement solved.
+pub(crate) struct Attempt {
+    /// The curved mesh (the node family of the options until [`Attempt::written`], then
+    /// equispaced).
+    pub(crate) mesh: HighOrderMesh,
+    /// The boundary placement (None: no geometry).
+    pub(crate) targets: Option<hocurve_geodesic::BoundaryTargets>,
+    /// Largest distance of a curved-boundary node of `mesh` from its entities.
+    pub(crate) max_geometry_distance: f64,
+    /// Nodes sliding in a plane.
+    pub(crate) sliding_nodes: usize,
+    /// Solver name, iterations, unknowns, relative residual.
+    pub(crate) solve: (String, usize, usize, f64),
+    /// The straight-sided positions of `mesh`'s nodes.
+    pub(crate) straight: Vec<[f64; 3]>,
+}
+
+impl Attempt {
+    /// The straight-sided mesh itself.
+    pub(crate) fn straight(straight: &HighOrderMesh) -> Self {
+        Attempt {
+            mesh: straight.clone(),
+            targets: None,
+            max_geometry_distance: 0.0,
+            sliding_nodes: 0,
+            solve: (String::from("none"), 0, 0, 0.0),
+            straight: straight.nodes.clone(),
+        }
+    }
+
+    /// Boundary nodes on the geometry (paper Sect. 4.1–4.2), then the elastic solve
+    /// (Sect. 4.3) unless `boundary_only`.
+    pub(crate) fn curved(
+        straight: &HighOrderMesh,
+        boundary: Boundary<'_>,
+        options: &CurveOptions,
+        progress: &mut dyn FnMut(Progress),
+        timings: &mut StepTimings,
+    ) -> Result<Self, CurveError> {
+        let (targets, stiffening) = match boundary {
+            Boundary::Place {
+                geometry,
+                association,
+                placement,
+            } => {
+                progress(Progress::Step(Step::BoundaryNodes));
+                let t = Instant::now();
+                let targets =
+                    place_boundary_nodes_with(straight, geometry.model, association, placement)?;
+                timings.boundary_nodes += t.elapsed().as_secs_f64();
+                (targets, None)
+            }
+            Boundary::Stiffened {
+                targets,
+                stiffening,
+            } => (targets.clone(), Some(stiffening)),
+        };
+        let mut mesh = straight.clone();
+        let mut attempt = Attempt::straight(straight);
+        if !options.boundary_only {
+            progress(Progress::Step(Step::Elasticity));
+            let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
+            attempt.sliding_nodes = bc.sliding.len();
+            let mut report = |p| progress(Progress::Elasticity(p));
+            let solution = match stiffening {
+                None => solve_displacement_with_progress(
+                    &mesh,
+                    &options.material,
+                    &bc,
+                    &options.solver,
+                    &mut report,
+                )?,
+                Some(stiffening) => solve_displacement_stiffened(
+                    &mesh,
+                    &options.material,
+                    stiffening,
+                    &bc,
+                    &options.solver,
+                    &mut report,
+                )?,
+            };
+            let residual = solution.relative_residual;
+            if residual.is_nan() || residual > options.solver.tolerance.max(1e-8) {
+                return Err(CurveError::NotConverged {
+                    residual: solution.relative_residual,
+                    tolerance: options.solver.tolerance,
+                    iterations: solution.iterations,
+                });
+            }
+            timings.assembly += solution.timings.assembly;
+            timings.solve += solution.timings.solve;
+            for (x, u) in mesh.nodes.iter_mut().zip(&solution.displacement) {
+                for d in 0..3 {
+                    x[d] += u[d];
+                }
+            }
+            let solver = match solution.solver_used {
+                SolverKind::Direct => "direct",
+                SolverKind::Cg => "cg",
+                SolverKind::Auto => "auto",
+            };
+            attempt.solve = (
+                solver.to_string(),
+                solution.iterations,
+                solution.dofs,
+                solution.relative_residual,
+            );
+        }
+        // Boundary nodes exactly on their targets, not up to the solver's round-off.
+        for (&n, &x) in &targets.targets {
+            mesh.nodes[n as usize] = x;
+        }
+        attempt.max_geometry_distance = targets.max_geometry_distance;
+        attempt.mesh = mesh;
+        attempt.targets = Some(targets);
+        Ok(attempt)
+    }
+
+    /// The mesh as it is written: equispaced nodes interpolated from the family used
+    /// inside, curved-boundary nodes projected back onto their entities (the interpolant
+    /// leaves the surface between on-surface nodes), and the distance measured on them.
+    pub(crate) fn written(
+        mut self,
+        linear: &LinearMesh,
+        options: &CurveOptions,
+        geometry: Option<Geometry>,
+        timings: &mut StepTimings,
+    ) -> Result<Self, CurveError> {
+        let t = Instant::now();
+        if self.mesh.family != NodeFamily::Equispaced {
+            let resampled = self.mesh.resampled(NodeFamily::Equispaced)?;
+            // Vertices are nodes of every family: keep them bit for bit rather than
+            // through the interpolant's round-off.
+            let vertices = self.mesh.layout.num_vertices;
+            let mut nodes = resampled.nodes;
+            nodes[..vertices].copy_from_slice(&self.mesh.nodes[..vertices]);
+            self.mesh = HighOrderMesh { nodes, ..resampled };
+            self.straight =
+                HighOrderMesh::from_linear(linear, options.order, NodeFamily::Equispaced)?.nodes;
+        }
+        if let (Some(geometry), Some(targets)) = (geometry, &self.targets) {
+            self.max_geometry_distance = project_nodes_onto_geometry(
+                geometry.model,
+                &targets.entities,
+                &mut self.mesh.nodes,
+            )?;
+        }
+        timings.boundary_nodes += t.elapsed().as_secs_f64();
+        Ok(self)
+    }
+
+    /// The curved mesh with its quality and report.
+    pub(crate) fn finish(
+        self,
+        options: &CurveOptions,
+        association: Option<&hocurve_geodesic::BoundaryAssociation>,
+        quality: MeshQuality,
+        undone_corrections: usize,
+        timings: StepTimings,
+    ) -> CurvedMesh {
+        let mesh = self.mesh;
+        let displacement = mesh
+            .nodes
+            .iter()
+            .zip(&self.straight)
+            .map(|(x, x0)| [x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]])
+            .collect();
+        let summary = &quality.summary;
+        let targets = self.targets.unwrap_or_default();
+        let report = CurveReport {
+            order: options.order,
+            node_family: options.family.to_string(),
+            elements: mesh.cells.len(),
+            nodes: mesh.nodes.len(),
+            dofs: self.solve.2,
+            curved_facets: targets.curved_facets,
+            facets_by_name: association.map_or(0, |a| a.by_name),
+            facets_by_proximity: association.map_or(0, |a| a.by_proximity),
+            facets_straight: association.map_or(0, |a| a.unassociated),
+            geometry_tolerance: association.map_or(0.0, |a| a.tolerance),
+            max_vertex_move: association.map_or(0.0, |a| a.max_vertex_move),
+            boundary_nodes_on_geometry: targets.targets.len(),
+            max_geometry_distance: self.max_geometry_distance,
+            small_angle_edges: targets.small_angle_edges,
+            corrected_edges: targets.corrected_edges,
+            min_edge_angle_degrees: targets.min_edge_angle_degrees,
+            corrections_undone: undone_corrections,
+            edges_split: 0,
+            quadrilaterals_split: 0,
+            doubly_curved_cells: Vec::new(),
+            uncertified_after_solve: 0,
+            stiffened_resolve: None,
+            untangled_elements: 0,
+            untangle_rounds: 0,
+            unused_node_tags: Vec::new(),
+            sliding_nodes: self.sliding_nodes,
+            solver: self.solve.0,
+            iterations: self.solve.1,
+            residual: self.solve.3,
+            min_scaled_jacobian: summary.min_scaled_jacobian,
+            invalid_elements: invalid_elements(&quality),
+            certified_valid_elements: summary.validity.as_ref().map(|v| v.valid),
+            undecided_elements: summary.validity.as_ref().map(|v| v.undecided),
+            min_scaled_jacobian_lower_bound: summary
+                .validity
+                .as_ref()
+                .and_then(|v| v.min_scaled_jacobian_lower_bound),
+            fraction_above_0_95: summary.fraction_above_0_95,
+            elements_below_0_5: summary.elements_below_0_5,
+            max_stretching: summary.max_stretching,
+            timings,
+        };
+        CurvedMesh {
+            mesh,
+            displacement,
+            quality,
+            report,
+            split_input: None,
+        }
+    }
+}
+
+/// One curving of `straight` with the boundary `placement` (the straight mesh itself
+/// without geometry), in the form it is written, and its certified quality.
+pub(crate) fn curve_and_certify(
+    linear: &LinearMesh,
+    straight: &HighOrderMesh,
+    geometry: Option<Geometry>,
+    boundary: Option<Boundary<'_>>,
+    options: &CurveOptions,
+    progress: &mut dyn FnMut(Progress),
+    timings: &mut StepTimings,
+) -> Result<(Attempt, MeshQuality), CurveError> {
+    let attempt = match boundary {
+        None => Attempt::straight(straight),
+        Some(boundary) => Attempt::curved(straight, boundary, options, progress, timings)?,
+    };
+    let attempt = attempt.written(linear, options, geometry, timings)?;
+    progress(Progress::Step(Step::Quality));
+    let t = Instant::now();
+    let quality = assess_certified(&attempt.mesh, options)?;
+    timings.quality += t.elapsed().as_secs_f64();
+    Ok((attempt, quality))
+}

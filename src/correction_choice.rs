@@ -1,0 +1,123 @@
+//! The minimum-angle correction's keep-or-undo rule (beyond the paper's Fig. 4, a
+//! heuristic on angles that can do harm): a corrected edge stays only if every element on
+//! it is better certified with the corrections than without any.
+
+use std::collections::BTreeSet;
+
+use hocurve_geodesic::PlacementOptions;
+use hocurve_mesh::HighOrderMesh;
+use hocurve_quality::MeshQuality;
+
+use crate::attempt::Attempt;
+
+/// The edges `attempt` rebuilt by the minimum-angle correction (Fig. 4) that `placement`
+/// did not ask to leave alone.
+pub(crate) fn active_corrections(
+    attempt: &Attempt,
+    placement: &PlacementOptions,
+) -> BTreeSet<[u32; 2]> {
+    attempt
+        .targets
+        .as_ref()
+        .map_or_else(BTreeSet::new, |targets| {
+            targets
+                .corrected_edge_vertices
+                .iter()
+                .copied()
+                .filter(|e| !placement.uncorrected_edges.contains(e))
+                .collect()
+        })
+}
+
+/// The `corrected` edges of `mesh` with a cell on them that is not better certified with
+/// the corrections than without any (scaled-Jacobian bounds per cell `with` and `without`):
+/// a correction has to earn its place on every element it touches.
+pub(crate) fn corrections_not_helping(
+    mesh: &HighOrderMesh,
+    corrected: &BTreeSet<[u32; 2]>,
+    with: &[f64],
+    without: &[f64],
+) -> BTreeSet<[u32; 2]> {
+    let mut losers = BTreeSet::new();
+    for (e, cell) in mesh.cells.iter().enumerate() {
+        if with[e] > without[e] {
+            continue;
+        }
+        let vertices = &cell.nodes[..cell.kind.num_vertices()];
+        for (i, &a) in vertices.iter().enumerate() {
+            for &b in &vertices[i + 1..] {
+                let key = [a.min(b), a.max(b)];
+                if corrected.contains(&key) {
+                    losers.insert(key);
+                }
+            }
+        }
+    }
+    losers
+}
+
+/// Each element's certified lower bound of the scaled Jacobian, or its sampled minimum when
+/// the mesh was not certified; NaN (degenerate) counts as −∞.
+pub(crate) fn certified_scaled_jacobians(quality: &MeshQuality) -> Vec<f64> {
+    let value = |e: usize| match &quality.validity {
+        Some(checks) => checks[e].scaled_jacobian_lower_bound,
+        None => quality.scaled_jacobian[e],
+    };
+    (0..quality.scaled_jacobian.len())
+        .map(|e| {
+            let v = value(e);
+            if v.is_nan() {
+                f64::NEG_INFINITY
+            } else {
+                v
+            }
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_mesh::{Element, ElementType, LinearMesh};
+    use hocurve_nodes::NodeFamily;
+    use hocurve_quality::{assess, QualityOptions};
+
+    #[test]
+    fn a_correction_goes_when_one_element_on_its_edge_is_not_better_certified() {
+        // Two tetrahedra sharing the face 0 1 3; edge 1 2 is on the first only.
+        let tet = |vertices: Vec<u32>| Element {
+            kind: ElementType::Tet,
+            vertices,
+            entity: 1,
+        };
+        let linear = LinearMesh {
+            dim: 3,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [0.0, -1.0, 0.0],
+            ],
+            cells: vec![tet(vec![0, 1, 2, 3]), tet(vec![0, 1, 3, 4])],
+            ..Default::default()
+        };
+        let mesh = HighOrderMesh::from_linear(&linear, 1, NodeFamily::Equispaced).unwrap();
+        let corrected = BTreeSet::from([[0, 1], [1, 2], [2, 3]]);
+        let losers = |with: [f64; 2], without: [f64; 2]| {
+            corrections_not_helping(&mesh, &corrected, &with, &without)
+        };
+        // Both better: all kept.
+        assert!(losers([0.5, 0.4], [0.4, 0.3]).is_empty());
+        // The second no better (equal): the shared edge goes, those on the first stay.
+        assert_eq!(losers([0.5, 0.3], [0.4, 0.3]), BTreeSet::from([[0, 1]]));
+        // The first worse: every corrected edge on it goes.
+        assert_eq!(losers([0.3, 0.4], [0.4, 0.3]), corrected);
+        // Degenerate (NaN) bounds count as the worst.
+        let mut q = assess(&mesh, &QualityOptions::default()).unwrap();
+        q.scaled_jacobian[1] = f64::NAN;
+        let bounds = certified_scaled_jacobians(&q);
+        assert_eq!(bounds[1], f64::NEG_INFINITY);
+        assert!(bounds[0] > 0.9);
+    }
+}

@@ -1,0 +1,214 @@
+//! Cells split before curving (beyond the paper): a cell with two facets (a quadrilateral
+//! with two edges) on one curved entity meeting at a corner opens to a 180° angle there
+//! once curved, with det J = 0 whatever the interior nodes do.
+
+use std::collections::BTreeSet;
+
+use hocurve_mesh::LinearMesh;
+
+/// The quadrilaterals to split, each with the corner whose two edges lie on one curved
+/// entity (the first such corner; a triangle left with two such edges is then split by
+/// [`edges_opposite_doubly_curved_corners`]).
+pub(crate) fn quadrilateral_corners_on_one_entity(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> Vec<(usize, usize)> {
+    let facet_entity = facet_entities(linear, association);
+    let mut out = Vec::new();
+    for (c, cell) in linear.cells.iter().enumerate() {
+        if cell.kind != hocurve_mesh::ElementType::Quad || cell.vertices.len() != 4 {
+            continue;
+        }
+        let v = &cell.vertices;
+        let entity = |k: usize| {
+            facet_entity
+                .get(&sorted(&[v[k % 4], v[(k + 1) % 4]]))
+                .copied()
+        };
+        // Corner k joins edges k − 1 and k.
+        if let Some(k) = (0..4).find(|&k| entity(k + 3).is_some() && entity(k + 3) == entity(k)) {
+            out.push((c, k));
+        }
+    }
+    out
+}
+
+/// Vertex ids sorted (a facet's key whatever its orientation).
+pub(crate) fn sorted(v: &[u32]) -> Vec<u32> {
+    let mut v = v.to_vec();
+    v.sort_unstable();
+    v
+}
+
+/// The curved entity of each associated declared facet, keyed by its sorted vertices.
+pub(crate) fn facet_entities(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> std::collections::HashMap<Vec<u32>, usize> {
+    linear
+        .facets
+        .iter()
+        .zip(&association.facet_entity)
+        .filter_map(|(f, e)| e.map(|e| (sorted(&f.vertices), e)))
+        .collect()
+}
+
+/// The hexahedra and prisms with two faces on one curved entity that share an edge: curved,
+/// the dihedral angle there opens to 180° (det J = 0), and such cells cannot be split
+/// conformingly like simplices and quadrilaterals. Indices into `linear.cells`.
+pub(crate) fn cells_with_doubly_curved_edges(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> Vec<usize> {
+    let facet_entity = facet_entities(linear, association);
+    let mut out = Vec::new();
+    for (c, cell) in linear.cells.iter().enumerate() {
+        let shape = match cell.kind {
+            hocurve_mesh::ElementType::Hex => hocurve_nodes::Shape::Hex,
+            hocurve_mesh::ElementType::Prism => hocurve_nodes::Shape::Prism,
+            _ => continue,
+        };
+        let faces: Vec<(Vec<u32>, Option<usize>)> = shape
+            .faces()
+            .iter()
+            .map(|f| {
+                let vertices: Vec<u32> = f.iter().map(|&k| cell.vertices[k]).collect();
+                let entity = facet_entity.get(&sorted(&vertices)).copied();
+                (vertices, entity)
+            })
+            .collect();
+        let doubly = faces.iter().enumerate().any(|(i, (a, ea))| {
+            faces[i + 1..].iter().any(|(b, eb)| {
+                ea.is_some() && ea == eb && a.iter().filter(|v| b.contains(v)).count() >= 2
+            })
+        });
+        if doubly {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// The edges to split so that no triangle or tetrahedron has two facets on one curved
+/// entity: for such a cell, the edge opposite the corner the two facets share, unless that
+/// edge lies on a declared facet (splitting it would put a new vertex on the boundary, off
+/// the geometry). Lower vertex id first, sorted, no repeats.
+pub(crate) fn edges_opposite_doubly_curved_corners(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> Vec<[u32; 2]> {
+    let facet_entity = facet_entities(linear, association);
+    let on_a_facet = |a: u32, b: u32| {
+        linear
+            .facets
+            .iter()
+            .any(|f| f.vertices.contains(&a) && f.vertices.contains(&b))
+    };
+    let mut edges = BTreeSet::new();
+    for cell in &linear.cells {
+        if !matches!(
+            cell.kind,
+            hocurve_mesh::ElementType::Tri | hocurve_mesh::ElementType::Tet
+        ) {
+            continue;
+        }
+        let n = cell.vertices.len();
+        // A simplex's facet k holds every vertex but vertex k.
+        let entity: Vec<Option<usize>> = (0..n)
+            .map(|skip| {
+                let f: Vec<u32> = (0..n)
+                    .filter(|&k| k != skip)
+                    .map(|k| cell.vertices[k])
+                    .collect();
+                facet_entity.get(&sorted(&f)).copied()
+            })
+            .collect();
+        for i in 0..n {
+            for j in i + 1..n {
+                if entity[i].is_none() || entity[i] != entity[j] {
+                    continue;
+                }
+                // Facets i and j share every vertex but i and j: the edge (i, j) is opposite
+                // their common corner (an edge in a tetrahedron, a vertex in a triangle).
+                let (a, b) = (cell.vertices[i], cell.vertices[j]);
+                if !on_a_facet(a, b) {
+                    edges.insert([a.min(b), a.max(b)]);
+                }
+            }
+        }
+    }
+    edges.into_iter().collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    use hocurve_mesh::{Element, ElementType};
+
+    /// One tetrahedron 0 1 2 3 with the facets 0 1 2 and 0 1 3 declared.
+    fn tet_with_two_facets() -> LinearMesh {
+        let facet = |v: [u32; 3]| Element {
+            kind: ElementType::Tri,
+            vertices: v.to_vec(),
+            entity: 1,
+        };
+        LinearMesh {
+            dim: 3,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+            ],
+            cells: vec![Element {
+                kind: ElementType::Tet,
+                vertices: vec![0, 1, 2, 3],
+                entity: 1,
+            }],
+            facets: vec![facet([0, 1, 2]), facet([0, 3, 1])],
+            ..Default::default()
+        }
+    }
+
+    fn association(facet_entity: Vec<Option<usize>>) -> hocurve_geodesic::BoundaryAssociation {
+        hocurve_geodesic::BoundaryAssociation {
+            facet_entity,
+            vertex_targets: BTreeMap::new(),
+            vertex_entities: BTreeMap::new(),
+            tolerance: 0.0,
+            by_name: 2,
+            by_proximity: 0,
+            unassociated: 0,
+            max_vertex_move: 0.0,
+        }
+    }
+
+    #[test]
+    fn a_cell_with_two_facets_on_one_entity_has_its_opposite_edge_split() {
+        let mesh = tet_with_two_facets();
+        // Both facets on entity 0: they share the edge 0 1; the opposite edge is 2 3.
+        let edges = edges_opposite_doubly_curved_corners(&mesh, &association(vec![Some(0); 2]));
+        assert_eq!(edges, vec![[2, 3]]);
+        // On different entities (a feature edge between two surfaces), or one straight:
+        // nothing to split.
+        for entities in [vec![Some(0), Some(1)], vec![Some(0), None]] {
+            let edges = edges_opposite_doubly_curved_corners(&mesh, &association(entities));
+            assert!(edges.is_empty());
+        }
+        // An opposite edge on a declared facet is left alone (its midpoint would be a new
+        // boundary vertex off the geometry).
+        let mut with_third = mesh.clone();
+        with_third.facets.push(Element {
+            kind: ElementType::Tri,
+            vertices: vec![1, 2, 3],
+            entity: 2,
+        });
+        let edges = edges_opposite_doubly_curved_corners(
+            &with_third,
+            &association(vec![Some(0), Some(0), None]),
+        );
+        assert!(edges.is_empty());
+    }
+}

@@ -1,0 +1,145 @@
+//! What a curving run reports: sizes, the boundary's association and distance to the
+//! geometry, corrections, the solve, quality and certification, the repair, and seconds
+//! per step (serialised as the JSON report).
+
+use serde::Serialize;
+
+/// Seconds spent per step (0 for steps not run). `read` and `write` are the caller's.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct StepTimings {
+    /// Reading the input files.
+    pub read: f64,
+    /// Placing the straight order-p nodes.
+    pub high_order_nodes: f64,
+    /// Boundary association.
+    pub association: f64,
+    /// Boundary node placement.
+    pub boundary_nodes: f64,
+    /// Stiffness assembly.
+    pub assembly: f64,
+    /// Linear solve (including preconditioner setup).
+    pub solve: f64,
+    /// Quality assessment.
+    pub quality: f64,
+    /// Untangling elements not certified valid (including their re-certification).
+    pub repair: f64,
+    /// Writing the output.
+    pub write: f64,
+    /// Wall time of everything above.
+    pub total: f64,
+}
+
+/// The machine-readable account of one curving run (`hocurve curve --report`).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CurveReport {
+    /// Polynomial order p.
+    pub order: usize,
+    /// Nodal distribution (`fekete`, `gll`, ...).
+    pub node_family: String,
+    /// Number of cells.
+    pub elements: usize,
+    /// Number of nodes of the high-order mesh.
+    pub nodes: usize,
+    /// Unknowns of the elastic system after condensation (0 without a solve).
+    pub dofs: usize,
+    /// Boundary facets placed on the geometry.
+    pub curved_facets: usize,
+    /// Boundary facets associated with an entity by physical-group name.
+    pub facets_by_name: usize,
+    /// Boundary facets associated with an entity by proximity (IGES).
+    pub facets_by_proximity: usize,
+    /// Boundary facets on no entity (kept straight, fixed).
+    pub facets_straight: usize,
+    /// Association tolerance used (largest vertex distance from its entity).
+    pub geometry_tolerance: f64,
+    /// Largest distance a boundary vertex was moved to lie on the geometry.
+    pub max_vertex_move: f64,
+    /// Boundary nodes given a target on the geometry.
+    pub boundary_nodes_on_geometry: usize,
+    /// Largest distance of a boundary node from its geometry entity.
+    pub max_geometry_distance: f64,
+    /// Curved surface edges meeting a neighbour below the minimum angle.
+    pub small_angle_edges: usize,
+    /// Of those, edges rebuilt by the Hermite-type correction (Fig. 4).
+    pub corrected_edges: usize,
+    /// Smallest angle (degrees) between neighbouring curved surface edges, before the
+    /// correction (None when not measured: 2D, projection, p ≤ 1, correction off).
+    pub min_edge_angle_degrees: Option<f64>,
+    /// Corrected edges put back on their geodesics because an element on them was not better
+    /// certified with the correction than without.
+    pub corrections_undone: usize,
+    /// Elements not certified valid (det J ≤ 0 found, or undecided) after the elastic solve
+    /// (and the choice of corrections): the repair starts from these (0: none needed).
+    pub uncertified_after_solve: usize,
+    /// Whether the mesh was solved again with small cells stiffer (1/|J| of their straight
+    /// shape, see [`crate::repair::jacobian_stiffening`]) because elements were not
+    /// certified after the first solve: None when not, else whether that solve was kept (it
+    /// left fewer elements not certified, or as many with a better bound).
+    pub stiffened_resolve: Option<bool>,
+    /// Elements not certified valid after the elastic solve(s) (and undone corrections),
+    /// whose patches were then untangled (0: none needed).
+    pub untangled_elements: usize,
+    /// Untangling rounds run (the patch reaches one more ring of cells each round).
+    pub untangle_rounds: usize,
+    /// Interior edges split before curving (the input cells holding them had two facets on
+    /// one curved entity, which curving would open to a 180° corner with det J = 0).
+    pub edges_split: usize,
+    /// Quadrilaterals split into two triangles before curving (two of their edges, meeting
+    /// at a corner, lay on one curved entity: curved, that corner opens to 180°).
+    pub quadrilaterals_split: usize,
+    /// Hexahedra and prisms (indices into the curved mesh's cells) with two faces on one
+    /// curved entity meeting along an edge: not split (it would not be conforming), they
+    /// get det J = 0 along that edge and cannot be certified.
+    pub doubly_curved_cells: Vec<usize>,
+    /// Tags of the input nodes no cell uses, left out of the curved mesh.
+    pub unused_node_tags: Vec<u64>,
+    /// Nodes sliding in a plane (`--slide`).
+    pub sliding_nodes: usize,
+    /// Solver used: `direct`, `cg` or `none`.
+    pub solver: String,
+    /// CG iterations (0 for the direct solver).
+    pub iterations: usize,
+    /// Relative residual ‖f − Ku‖ / ‖f‖ of the solve (0 without a solve).
+    pub residual: f64,
+    /// Smallest scaled Jacobian Ĩ (None for an empty mesh).
+    pub min_scaled_jacobian: Option<f64>,
+    /// Elements with det J ≤ 0 found somewhere: Ĩ ≤ 0 at a sample point, or a negative
+    /// point found by the Bézier check.
+    pub invalid_elements: usize,
+    /// Elements certified valid (det J > 0 everywhere, Bézier bounds); None when the
+    /// check did not run.
+    pub certified_valid_elements: Option<usize>,
+    /// Elements the Bézier check could neither certify nor refute (det J ≈ 0 somewhere).
+    pub undecided_elements: Option<usize>,
+    /// Certified lower bound of min det J / max det J over every element (≤ the true
+    /// minimum, unlike the sampled Ĩ); None when the check did not run.
+    pub min_scaled_jacobian_lower_bound: Option<f64>,
+    /// Fraction (0–1) of elements with Ĩ > 0.95.
+    pub fraction_above_0_95: f64,
+    /// Elements with Ĩ < 0.5.
+    pub elements_below_0_5: usize,
+    /// Largest stretching (longest / shortest edge).
+    pub max_stretching: Option<f64>,
+    /// Seconds per step.
+    pub timings: StepTimings,
+}
+
+impl CurveReport {
+    /// The repair steps run, in words ("" when none ran).
+    pub fn repair_steps(&self) -> String {
+        let mut steps = Vec::new();
+        match self.stiffened_resolve {
+            Some(true) => steps.push("solved again with small cells stiffer".to_string()),
+            Some(false) => steps
+                .push("solved again with small cells stiffer (no better: not kept)".to_string()),
+            None => {}
+        }
+        if self.untangle_rounds > 0 {
+            steps.push(format!(
+                "{} round(s) of untangling the patches around {} element(s)",
+                self.untangle_rounds, self.untangled_elements
+            ));
+        }
+        steps.join(", then ")
+    }
+}
