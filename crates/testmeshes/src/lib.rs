@@ -77,11 +77,14 @@ impl Kuhn {
 
 /// A deterministic move of the interior vertices of a grid of spacing h: vertex (i, j, k)
 /// moves along axis d by `amplitude` · h · s(t), where t = w · (i, j, k, d) with the
-/// `weights` w and s(t) = 2 frac(43758.5453 sin t) − 1 ∈ [−1, 1] (a classic shader hash:
-/// cheap, and the same on every platform that rounds `sin` the same).
+/// `weights` w and s(t) = 2 fract(43758.5453 sin t) − 1 (a classic shader hash: cheap, and
+/// the same on every platform that rounds `sin` the same). [`f64::fract`] keeps the sign,
+/// so s lies in (−3, 1), not [−1, 1]: the moves towards the origin reach three times the
+/// amplitude. The tests' meshes were made so; kept for them to stay the same.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Perturbation {
-    /// Largest move along each axis, as a fraction of the grid spacing.
+    /// Scale of the moves, as a fraction of the grid spacing: they lie in
+    /// (−3, 1) · `amplitude` · h along each axis.
     pub amplitude: f64,
     /// Weights of i, j, k and the axis in the hash's argument.
     pub weights: [f64; 4],
@@ -91,7 +94,7 @@ impl Perturbation {
     /// The weights of [`Perturbation::new`].
     pub const DEFAULT_WEIGHTS: [f64; 4] = [12.9898, 78.233, 37.719, 4.1];
 
-    /// Moves of up to `amplitude` · h with the default weights.
+    /// Moves of scale `amplitude` · h with the default weights.
     pub fn new(amplitude: f64) -> Self {
         Perturbation {
             amplitude,
@@ -256,3 +259,6 @@ fn signed_volume(vertices: &[[f64; 3]], tet: &[u32]) -> f64 {
     u[0] * (w[1] * z[2] - w[2] * z[1]) - u[1] * (w[0] * z[2] - w[2] * z[0])
         + u[2] * (w[0] * z[1] - w[1] * z[0])
 }
+
+#[cfg(test)]
+mod tests;

@@ -11,9 +11,9 @@ use hocurve_mesh::LinearMesh;
 use hocurve_nodes::NodeFamily;
 use hocurve_testmeshes::{unit_cube, Fill, Kuhn, Perturbation};
 
-/// The unit cube as n³ small cubes of 6 tetrahedra each, interior vertices moved by up to
-/// 20 % of h so that the cells are general (with integer hash weights: the mesh the
-/// iteration counts below were measured on).
+/// The unit cube as n³ small cubes of 6 tetrahedra each, interior vertices moved by 20 % of
+/// h (up to 60 % towards the origin, see [`Perturbation`]) so that the cells are general;
+/// integer hash weights: the mesh the iteration counts below were measured on.
 pub(crate) fn tet_cube(n: usize) -> LinearMesh {
     let perturbation = Perturbation {
         amplitude: 0.2,
