@@ -3,13 +3,12 @@
 //!
 //! `cargo run --release -p hocurve-elastic --example direct_vs_cg_2d`
 
-#[path = "../tests/common/mod.rs"]
-mod common;
-
 use hocurve_elastic::{
     boundary_nodes, solve_displacement, BoundaryConditions, Material, SolverKind, SolverOptions,
 };
 use hocurve_mesh::ElementType;
+use hocurve_nodes::NodeFamily;
+use hocurve_testmeshes::{high_order, unit_square};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
@@ -17,7 +16,11 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "n", "p", "dofs", "direct", "cg", "iters"
     );
     for (n, p) in [(20, 2), (40, 3), (60, 4), (100, 4), (140, 4)] {
-        let mesh = common::high_order(&common::square(n, ElementType::Tri, 0.1), p);
+        let mesh = high_order(
+            &unit_square(n, ElementType::Tri, 0.1),
+            p,
+            NodeFamily::Fekete,
+        );
         let mut bc = BoundaryConditions::default();
         for node in boundary_nodes(&mesh)? {
             let x = mesh.nodes[node as usize];

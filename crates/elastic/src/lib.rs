@@ -10,6 +10,8 @@
 //! p = 1 solve), whose iteration count stays nearly flat in p, or by a sparse Cholesky factorisation ([`SolverKind`]). Results do not depend on the
 //! number of threads, bit for bit.
 //!
+//! # Example
+//!
 //! ```
 //! use std::collections::BTreeMap;
 //! use hocurve_elastic::{solve_displacement, BoundaryConditions, Material, SolverOptions};

@@ -1,13 +1,12 @@
 //! Patch test: a linear displacement prescribed on the boundary is reproduced exactly
 //! inside, for every element type, hybrid meshes and p = 1..5.
 
-mod common;
-
-use common::{cube, high_order, square, Fill};
 use hocurve_elastic::{
     boundary_nodes, solve_displacement, BoundaryConditions, Material, SolverKind, SolverOptions,
 };
 use hocurve_mesh::{ElementType, HighOrderMesh, LinearMesh};
+use hocurve_nodes::NodeFamily;
+use hocurve_testmeshes::{high_order, unit_cube, unit_square, Fill, Kuhn};
 
 fn linear_field(x: [f64; 3]) -> [f64; 3] {
     let a = [[0.3, -0.2, 0.5], [0.7, 0.1, -0.4], [0.2, 0.9, -0.3]];
@@ -30,7 +29,7 @@ fn check_patch(linear: &LinearMesh, name: &str, kind: SolverKind) {
         ..Default::default()
     };
     for p in 1..=5 {
-        let mesh: HighOrderMesh = high_order(linear, p);
+        let mesh: HighOrderMesh = high_order(linear, p, NodeFamily::Fekete);
         let boundary = boundary_nodes(&mesh).unwrap();
         let mut bc = BoundaryConditions::default();
         for &n in &boundary {
@@ -55,13 +54,17 @@ fn check_patch(linear: &LinearMesh, name: &str, kind: SolverKind) {
 
 #[test]
 fn triangles_reproduce_linear_fields() {
-    check_patch(&square(3, ElementType::Tri, 0.2), "tri", SolverKind::Direct);
+    check_patch(
+        &unit_square(3, ElementType::Tri, 0.2),
+        "tri",
+        SolverKind::Direct,
+    );
 }
 
 #[test]
 fn quadrilaterals_reproduce_linear_fields() {
     check_patch(
-        &square(3, ElementType::Quad, 0.2),
+        &unit_square(3, ElementType::Quad, 0.2),
         "quad",
         SolverKind::Direct,
     );
@@ -69,23 +72,27 @@ fn quadrilaterals_reproduce_linear_fields() {
 
 #[test]
 fn tetrahedra_reproduce_linear_fields() {
-    check_patch(&cube(2, Fill::Tet, 0.2), "tet", SolverKind::Direct);
+    check_patch(
+        &unit_cube(2, Fill::Tet(Kuhn::Paired), 0.2),
+        "tet",
+        SolverKind::Direct,
+    );
 }
 
 #[test]
 fn hexahedra_reproduce_linear_fields() {
-    check_patch(&cube(2, Fill::Hex, 0.2), "hex", SolverKind::Direct);
+    check_patch(&unit_cube(2, Fill::Hex, 0.2), "hex", SolverKind::Direct);
 }
 
 #[test]
 fn prisms_reproduce_linear_fields() {
-    check_patch(&cube(2, Fill::Prism, 0.2), "prism", SolverKind::Direct);
+    check_patch(&unit_cube(2, Fill::Prism, 0.2), "prism", SolverKind::Direct);
 }
 
 #[test]
 fn hybrid_hex_prism_meshes_reproduce_linear_fields() {
     check_patch(
-        &cube(2, Fill::HexPrism, 0.2),
+        &unit_cube(2, Fill::HexPrism, 0.2),
         "hex+prism",
         SolverKind::Direct,
     );
@@ -94,7 +101,7 @@ fn hybrid_hex_prism_meshes_reproduce_linear_fields() {
 #[test]
 fn the_cg_solver_passes_the_patch_test_too() {
     check_patch(
-        &cube(2, Fill::HexPrism, 0.2),
+        &unit_cube(2, Fill::HexPrism, 0.2),
         "hex+prism (cg)",
         SolverKind::Cg,
     );
@@ -103,8 +110,13 @@ fn the_cg_solver_passes_the_patch_test_too() {
 #[test]
 fn boundary_nodes_of_a_structured_cube() {
     // n = 2, p = 2: nodes on the 5 × 5 × 5 lattice, 3³ of them inside.
-    for fill in [Fill::Tet, Fill::Hex, Fill::Prism, Fill::HexPrism] {
-        let mesh = high_order(&cube(2, fill, 0.0), 2);
+    for fill in [
+        Fill::Tet(Kuhn::Paired),
+        Fill::Hex,
+        Fill::Prism,
+        Fill::HexPrism,
+    ] {
+        let mesh = high_order(&unit_cube(2, fill, 0.0), 2, NodeFamily::Fekete);
         assert_eq!(mesh.nodes.len(), 125, "{fill:?}");
         let boundary = boundary_nodes(&mesh).unwrap();
         assert_eq!(boundary.len(), 125 - 27, "{fill:?}");
@@ -116,6 +128,10 @@ fn boundary_nodes_of_a_structured_cube() {
         }
     }
     // 2D: a 3 × 3 square at p = 3 has 10 × 10 nodes, 8 × 8 inside.
-    let mesh = high_order(&square(3, ElementType::Quad, 0.0), 3);
+    let mesh = high_order(
+        &unit_square(3, ElementType::Quad, 0.0),
+        3,
+        NodeFamily::Fekete,
+    );
     assert_eq!(boundary_nodes(&mesh).unwrap().len(), 100 - 64);
 }

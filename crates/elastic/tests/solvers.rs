@@ -1,15 +1,14 @@
 //! The solvers: CG against direct, iteration counts of the p-multigrid preconditioner,
 //! sliding walls, thread-count independence and error cases.
 
-mod common;
-
-use common::{cube, high_order, square, Fill};
 use hocurve_elastic::{
     assemble_stiffness, boundary_nodes, solve_displacement, solve_displacement_with_load,
     solve_displacement_with_progress, BoundaryConditions, ElasticError, ElasticSolution, Material,
     SolveProgress, SolverKind, SolverOptions,
 };
 use hocurve_mesh::{ElementType, HighOrderMesh};
+use hocurve_nodes::NodeFamily;
+use hocurve_testmeshes::{high_order, unit_cube, unit_square, Fill, Kuhn};
 
 /// Bottom face fixed, top face pushed sideways and down with a bump profile: a genuinely
 /// 3D deformation.
@@ -38,8 +37,8 @@ fn solve(mesh: &HighOrderMesh, bc: &BoundaryConditions, kind: SolverKind) -> Ela
 
 #[test]
 fn cg_and_direct_agree_in_3d() {
-    for (fill, p) in [(Fill::Tet, 2), (Fill::HexPrism, 3)] {
-        let mesh = high_order(&cube(3, fill, 0.2), p);
+    for (fill, p) in [(Fill::Tet(Kuhn::Paired), 2), (Fill::HexPrism, 3)] {
+        let mesh = high_order(&unit_cube(3, fill, 0.2), p, NodeFamily::Fekete);
         let bc = clamped_and_pushed(&mesh);
         let direct = solve(&mesh, &bc, SolverKind::Direct);
         let cg = solve(&mesh, &bc, SolverKind::Cg);
@@ -71,11 +70,11 @@ fn cg_and_direct_agree_in_3d() {
 
 #[test]
 fn multigrid_iterations_stay_flat_in_p() {
-    for fill in [Fill::Tet, Fill::HexPrism] {
-        let linear = cube(3, fill, 0.2);
+    for fill in [Fill::Tet(Kuhn::Paired), Fill::HexPrism] {
+        let linear = unit_cube(3, fill, 0.2);
         let mut counts = Vec::new();
         for p in 1..=5 {
-            let mesh = high_order(&linear, p);
+            let mesh = high_order(&linear, p, NodeFamily::Fekete);
             let solution = solve(&mesh, &clamped_and_pushed(&mesh), SolverKind::Cg);
             println!(
                 "{fill:?} p = {p}: {} dofs, {} iterations, residual {:.1e}, solve {:.3} s",
@@ -98,7 +97,11 @@ fn multigrid_iterations_stay_flat_in_p() {
 
 #[test]
 fn progress_reports_assembly_set_up_and_every_iteration() {
-    let mesh = high_order(&cube(2, Fill::Tet, 0.2), 3);
+    let mesh = high_order(
+        &unit_cube(2, Fill::Tet(Kuhn::Paired), 0.2),
+        3,
+        NodeFamily::Fekete,
+    );
     let bc = clamped_and_pushed(&mesh);
     for kind in [SolverKind::Cg, SolverKind::Direct] {
         let options = SolverOptions {
@@ -155,7 +158,11 @@ fn progress_reports_assembly_set_up_and_every_iteration() {
 
 #[test]
 fn progress_reports_the_last_iteration_of_a_solve_that_does_not_converge() {
-    let mesh = high_order(&cube(2, Fill::Tet, 0.2), 3);
+    let mesh = high_order(
+        &unit_cube(2, Fill::Tet(Kuhn::Paired), 0.2),
+        3,
+        NodeFamily::Fekete,
+    );
     let bc = clamped_and_pushed(&mesh);
     let options = SolverOptions {
         kind: SolverKind::Cg,
@@ -177,7 +184,11 @@ fn progress_reports_the_last_iteration_of_a_solve_that_does_not_converge() {
 fn a_hand_built_mesh_with_a_wrong_layout_is_still_solved() {
     // The layout claims one vertex more than the mesh has: the p-multigrid hierarchy
     // cannot be built, CG must still converge (on the smoother alone), not panic.
-    let mut mesh = high_order(&cube(2, Fill::Tet, 0.2), 3);
+    let mut mesh = high_order(
+        &unit_cube(2, Fill::Tet(Kuhn::Paired), 0.2),
+        3,
+        NodeFamily::Fekete,
+    );
     mesh.layout.num_vertices += 1;
     let bc = clamped_and_pushed(&mesh);
     let solution = solve(&mesh, &bc, SolverKind::Cg);
@@ -192,8 +203,8 @@ fn sliding_walls_reproduce_uniaxial_stress() {
     let material = Material::default();
     let (eps, nu) = (0.01, material.poisson);
     let exact = |x: [f64; 3]| [eps * x[0], -nu * eps * x[1], -nu * eps * x[2]];
-    for fill in [Fill::Tet, Fill::HexPrism] {
-        let mesh = high_order(&cube(2, fill, 0.2), 2);
+    for fill in [Fill::Tet(Kuhn::Paired), Fill::HexPrism] {
+        let mesh = high_order(&unit_cube(2, fill, 0.2), 2, NodeFamily::Fekete);
         let mut bc = BoundaryConditions::default();
         for n in boundary_nodes(&mesh).unwrap() {
             let x = mesh.nodes[n as usize];
@@ -235,7 +246,11 @@ fn in_pool<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
 
 #[test]
 fn results_are_bitwise_identical_for_any_thread_count() {
-    let mesh = high_order(&cube(3, Fill::Tet, 0.2), 3);
+    let mesh = high_order(
+        &unit_cube(3, Fill::Tet(Kuhn::Paired), 0.2),
+        3,
+        NodeFamily::Fekete,
+    );
     let bc = clamped_and_pushed(&mesh);
     let bits = |s: ElasticSolution| -> Vec<u64> {
         s.displacement
@@ -258,7 +273,7 @@ fn results_are_bitwise_identical_for_any_thread_count() {
 
 #[test]
 fn stiffness_is_symmetric_and_annihilates_rigid_motions() {
-    let mesh = high_order(&cube(2, Fill::HexPrism, 0.2), 2);
+    let mesh = high_order(&unit_cube(2, Fill::HexPrism, 0.2), 2, NodeFamily::Fekete);
     let k = assemble_stiffness(&mesh, &Material::default()).unwrap();
     assert_eq!(k.rows(), 3 * mesh.nodes.len());
     let dense = k.to_dense();
@@ -286,7 +301,11 @@ fn stiffness_is_symmetric_and_annihilates_rigid_motions() {
 
 #[test]
 fn auto_picks_direct_for_small_problems() {
-    let mesh = high_order(&square(2, ElementType::Tri, 0.0), 2);
+    let mesh = high_order(
+        &unit_square(2, ElementType::Tri, 0.0),
+        2,
+        NodeFamily::Fekete,
+    );
     let mut bc = BoundaryConditions::default();
     for n in boundary_nodes(&mesh).unwrap() {
         bc.prescribed
@@ -306,7 +325,11 @@ fn auto_picks_direct_for_small_problems() {
 
 #[test]
 fn errors_are_reported() {
-    let mesh = high_order(&square(2, ElementType::Quad, 0.0), 2);
+    let mesh = high_order(
+        &unit_square(2, ElementType::Quad, 0.0),
+        2,
+        NodeFamily::Fekete,
+    );
     let options = SolverOptions::default();
     let free = BoundaryConditions::default();
     assert!(matches!(

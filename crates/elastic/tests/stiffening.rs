@@ -2,13 +2,12 @@
 //! solution u = (u_x(x), 0, 0), piecewise linear with the strain ratio the inverse of the
 //! stiffness ratio, which the solver must reproduce when the stiffening is applied.
 
-mod common;
-
-use common::{cube, high_order, Fill};
 use hocurve_elastic::{
     boundary_nodes, solve_displacement_stiffened, BoundaryConditions, ElasticError, Material,
     SolverKind, SolverOptions,
 };
+use hocurve_nodes::NodeFamily;
+use hocurve_testmeshes::{high_order, unit_cube, Fill, Kuhn};
 
 /// u_x of the bar [0, 1] with stiffness 1 for x < 1/2 and `s` beyond, u_x(0) = 0 and
 /// u_x(1) = 1: equal stress E ε on both sides gives ε = 2s/(1 + s) then 2/(1 + s).
@@ -25,13 +24,13 @@ fn two_material_bar(x: f64, s: f64) -> f64 {
 fn a_two_material_bar_is_reproduced_exactly() {
     let s = 9.0;
     let material = Material::new(1.0, 0.0).unwrap();
-    for (fill, name) in [(Fill::Tet, "tet"), (Fill::Hex, "hex")] {
+    for (fill, name) in [(Fill::Tet(Kuhn::Paired), "tet"), (Fill::Hex, "hex")] {
         for (p, kind) in [
             (1, SolverKind::Direct),
             (2, SolverKind::Direct),
             (3, SolverKind::Cg),
         ] {
-            let mesh = high_order(&cube(4, fill, 0.0), p);
+            let mesh = high_order(&unit_cube(4, fill, 0.0), p, NodeFamily::Fekete);
             let stiffening: Vec<f64> = mesh
                 .cells
                 .iter()
@@ -95,7 +94,11 @@ fn a_two_material_bar_is_reproduced_exactly() {
 
 #[test]
 fn stiffening_that_is_not_one_positive_factor_per_cell_is_an_error() {
-    let mesh = high_order(&cube(1, Fill::Tet, 0.0), 1);
+    let mesh = high_order(
+        &unit_cube(1, Fill::Tet(Kuhn::Paired), 0.0),
+        1,
+        NodeFamily::Fekete,
+    );
     let mut bc = BoundaryConditions::default();
     bc.prescribed.insert(0, [0.0; 3]);
     let cells = mesh.cells.len();

@@ -4,6 +4,25 @@
 //! approximate geodesics on surfaces (Eq. (5), Fig. 3) with the minimum-angle correction
 //! (Fig. 4, [`correction`]) and face-interior nodes (Eqs. (6)–(7)), all driven by
 //! [`place_boundary_nodes_with`].
+//!
+//! # Example
+//!
+//! ```
+//! use std::f64::consts::{FRAC_1_SQRT_2, FRAC_PI_2};
+//! use hocurve_geodesic::{GeodesicPath, SurfaceChart};
+//! // The unit sphere: u turns about the z axis from +x, v runs from the south pole north.
+//! let sphere = hocurve_nurbs::shapes::sphere([0.0; 3], 1.0)?;
+//! let chart = SurfaceChart::new(&sphere);
+//! // From (1, 0, 0) on the equator to (0, 1, 1)/√2, 45° north: a quarter of a great
+//! // circle, which no parameter line follows.
+//! let path = GeodesicPath::between(&chart, [0.0, 0.5], [0.25, 0.75], 1e-10);
+//! assert!((path.length() - FRAC_PI_2).abs() < 1e-6);
+//! // Halfway along is the middle of the arc, (1, 1/√2, 1/√2)/√2.
+//! let (_, middle) = path.at_fraction(&chart, 0.5);
+//! let expected = [FRAC_1_SQRT_2, 0.5, 0.5];
+//! assert!((0..3).all(|d| (middle[d] - expected[d]).abs() < 1e-6));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod association;
 pub mod chart;

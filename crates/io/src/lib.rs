@@ -2,6 +2,43 @@
 //! curve, and complete high-order meshes to assess) and VTK XML `.vtu` in (linear,
 //! quadratic and Lagrange cells, as hocurve or VTK write them); high-order Gmsh MSH 4.1
 //! and `.vtu` Lagrange cells out, with point and cell data.
+//!
+//! # Example
+//!
+//! ```
+//! use std::path::Path;
+//! use hocurve_mesh::HighOrderMesh;
+//! use hocurve_nodes::NodeFamily;
+//! // Two triangles forming the unit square, as Gmsh 2.2 writes them.
+//! let msh = "\
+//! $MeshFormat
+//! 2.2 0 8
+//! $EndMeshFormat
+//! $Nodes
+//! 4
+//! 1 0 0 0
+//! 2 1 0 0
+//! 3 1 1 0
+//! 4 0 1 0
+//! $EndNodes
+//! $Elements
+//! 2
+//! 1 2 2 0 1 1 2 3
+//! 2 2 2 0 1 1 3 4
+//! $EndElements
+//! ";
+//! let linear = hocurve_io::parse_msh(msh.as_bytes(), Path::new("square.msh"))?;
+//! assert_eq!((linear.vertices.len(), linear.cells.len()), (4, 2));
+//! // Written at order 3 and read back: the same 16 nodes, bit for bit.
+//! let cubic = HighOrderMesh::from_linear(&linear, 3, NodeFamily::Equispaced)?;
+//! let dir = tempfile::tempdir()?;
+//! let path = dir.path().join("square.msh");
+//! hocurve_io::write_mesh(&path, &cubic)?;
+//! let back = hocurve_io::read_high_order_mesh(&path)?;
+//! assert_eq!(back.nodes.len(), 16);
+//! assert_eq!(back.nodes, cubic.nodes);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod error;
 mod msh_read;

@@ -3,6 +3,8 @@
 //! [`HighOrderMesh`] whose p-th order nodes are shared exactly between neighbouring cells
 //! (the node layout of the paper's Sect. 3–4: vertex, edge, face and interior nodes).
 //!
+//! # Example
+//!
 //! ```
 //! use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
 //! use hocurve_nodes::NodeFamily;

@@ -11,6 +11,8 @@
 //! each face, then of the cell (see [`ReferenceNodes`]). Fekete points are optimised at run
 //! time (under 0.5 s for a tetrahedron at p = 10, milliseconds below p = 8) and cached.
 //!
+//! # Example
+//!
 //! ```
 //! use hocurve_nodes::{LagrangeBasis, NodeFamily, QuadratureRule, ReferenceNodes, Shape};
 //! let tet = ReferenceNodes::new(Shape::Tet, 3, NodeFamily::Equispaced);

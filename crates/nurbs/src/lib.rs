@@ -5,6 +5,8 @@
 //! ([`inversion`]) and arc length with its inverse ([`arc_length`]); NACA 4-digit airfoils as
 //! interpolating cubic B-splines ([`naca`]) and the JSON geometry input ([`json`]).
 //!
+//! # Example
+//!
 //! ```
 //! use hocurve_nurbs::shapes;
 //! let circle = shapes::circle([0.0, 0.0, 0.0], [0.0, 0.0, 1.0], 2.0)?;

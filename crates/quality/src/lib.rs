@@ -4,6 +4,8 @@
 //! ([`check_validity`], beyond the paper), stretching ([`stretching`]), and the summary and
 //! histograms of its figures ([`QualitySummary`], [`scaled_jacobian_histogram_svg`]).
 //!
+//! # Example
+//!
 //! ```
 //! use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
 //! use hocurve_nodes::NodeFamily;

@@ -20,6 +20,47 @@
 //! its free nodes are the non-boundary nodes whose cells all lie in the patch, so cells
 //! outside it are untouched. Patches that share free nodes are optimised together; separate
 //! ones in parallel, each sequentially, so the result does not depend on the thread count.
+//!
+//! # Example
+//!
+//! ```
+//! use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+//! use hocurve_nodes::NodeFamily;
+//! use hocurve_quality::{check_validity, BezierOptions, Validity};
+//! use hocurve_untangle::{untangle, UntangleOptions};
+//! // The unit square as four triangles about its centre, at order 2.
+//! let tri = |a, b| Element { kind: ElementType::Tri, vertices: vec![a, b, 4], entity: 1 };
+//! let square = LinearMesh {
+//!     dim: 2,
+//!     vertices: vec![
+//!         [0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.5, 0.5, 0.0],
+//!     ],
+//!     cells: vec![tri(0, 1), tri(1, 2), tri(2, 3), tri(3, 0)],
+//!     ..Default::default()
+//! };
+//! let mut mesh = HighOrderMesh::from_linear(&square, 2, NodeFamily::Equispaced)?;
+//! let straight = mesh.nodes.clone();
+//! // Drag the centre out through the right side: the triangles on it fold over.
+//! mesh.nodes[4] = [1.2, 0.5, 0.0];
+//! let not_valid = |mesh: &HighOrderMesh| -> Result<Vec<usize>, hocurve_quality::QualityError> {
+//!     let checks = check_validity(mesh, &BezierOptions::default())?;
+//!     Ok((0..checks.len()).filter(|&e| checks[e].validity != Validity::Valid).collect())
+//! };
+//! let bad = not_valid(&mesh)?;
+//! assert!(!bad.is_empty());
+//! // The corners and the nodes on the sides are fixed: the centre and the four edge
+//! // midpoints next to it move, back to the straight shapes (which minimise the energy).
+//! let fixed: Vec<u32> = (0..mesh.nodes.len() as u32).filter(|&n| {
+//!     let x = straight[n as usize];
+//!     x[0] * (1.0 - x[0]) * x[1] * (1.0 - x[1]) == 0.0
+//! }).collect();
+//! let report = untangle(&mut mesh, &straight, &bad, &fixed, &UntangleOptions::default())?;
+//! assert!(report.min_ratio > 0.0);
+//! assert!(not_valid(&mesh)?.is_empty());
+//! let centre = mesh.nodes[4];
+//! assert!((centre[0] - 0.5).abs() < 1e-3 && (centre[1] - 0.5).abs() < 1e-3);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod energy;
 mod optimise;

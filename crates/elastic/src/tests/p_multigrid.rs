@@ -7,61 +7,19 @@ use crate::smoother::largest_eigenvalue;
 use crate::sparse::product;
 use crate::vector_ops::spmv;
 use crate::{BoundaryConditions, Material};
-use hocurve_mesh::{Element, ElementType, LinearMesh};
+use hocurve_mesh::LinearMesh;
 use hocurve_nodes::NodeFamily;
+use hocurve_testmeshes::{unit_cube, Fill, Kuhn, Perturbation};
 
-/// The unit cube as n³ small cubes of 6 tetrahedra each, interior vertices moved by up to
-/// 20 % of h so that the cells are general.
+/// The unit cube as n³ small cubes of 6 tetrahedra each, interior vertices moved by 20 % of
+/// h (up to 60 % towards the origin, see [`Perturbation`]) so that the cells are general;
+/// integer hash weights: the mesh the iteration counts below were measured on.
 pub(crate) fn tet_cube(n: usize) -> LinearMesh {
-    let h = 1.0 / n as f64;
-    let id = |i: usize, j: usize, k: usize| (i + (n + 1) * (j + (n + 1) * k)) as u32;
-    let mut vertices = Vec::new();
-    for k in 0..=n {
-        for j in 0..=n {
-            for i in 0..=n {
-                let mut x = [i as f64 * h, j as f64 * h, k as f64 * h];
-                if [i, j, k].iter().all(|&c| c > 0 && c < n) {
-                    for (d, xd) in x.iter_mut().enumerate() {
-                        let t = (i * 12 + j * 78 + k * 37 + d * 4) as f64;
-                        *xd += 0.2 * h * ((t.sin() * 43758.5453).fract() * 2.0 - 1.0);
-                    }
-                }
-                vertices.push(x);
-            }
-        }
-    }
-    let volume = |v: &[[f64; 3]], t: &[u32]| {
-        let p = |k: usize| v[t[k] as usize];
-        let e = |x: [f64; 3], y: [f64; 3]| [x[0] - y[0], x[1] - y[1], x[2] - y[2]];
-        let (u, w, z) = (e(p(1), p(0)), e(p(2), p(0)), e(p(3), p(0)));
-        u[0] * (w[1] * z[2] - w[2] * z[1]) - u[1] * (w[0] * z[2] - w[2] * z[0])
-            + u[2] * (w[0] * z[1] - w[1] * z[0])
+    let perturbation = Perturbation {
+        amplitude: 0.2,
+        weights: [12.0, 78.0, 37.0, 4.0],
     };
-    let mut cells = Vec::new();
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
-                let v = |b: usize| id(i + (b & 1), j + ((b >> 1) & 1), k + (b >> 2));
-                for (a, b) in [(1, 2), (2, 1), (1, 4), (4, 1), (2, 4), (4, 2)] {
-                    let mut tet = vec![v(0), v(a), v(a | b), v(7)];
-                    if volume(&vertices, &tet) < 0.0 {
-                        tet.swap(2, 3);
-                    }
-                    cells.push(Element {
-                        kind: ElementType::Tet,
-                        vertices: tet,
-                        entity: 1,
-                    });
-                }
-            }
-        }
-    }
-    LinearMesh {
-        dim: 3,
-        vertices,
-        cells,
-        ..Default::default()
-    }
+    unit_cube(n, Fill::Tet(Kuhn::Paired), perturbation)
 }
 
 /// The condensed system of the cube with its bottom fixed, its top pushed sideways and,

@@ -1,6 +1,7 @@
 use super::*;
-use crate::test_meshes::{box_tets, hash01, single_element, single_element_of_family};
+use crate::test_meshes::{hash01, single_element, single_element_of_family};
 use hocurve_mesh::ElementType;
+use hocurve_testmeshes::{unit_cube, Fill, Kuhn};
 
 const ALL_TYPES: [ElementType; 5] = [
     ElementType::Tri,
@@ -161,7 +162,7 @@ fn curved_elements_match_the_analytic_jacobian() {
 
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
-    let linear = box_tets(3);
+    let linear = unit_cube(3, Fill::Tet(Kuhn::Lexicographic), 0.0);
     let mut mesh = HighOrderMesh::from_linear(&linear, 3, NodeFamily::Fekete).unwrap();
     for (i, x) in mesh.nodes.iter_mut().enumerate() {
         for d in 0..3 {
@@ -238,7 +239,7 @@ fn bad_input_is_reported_with_the_element() {
 #[ignore]
 fn throughput_one_million_p3_tets() {
     let t = std::time::Instant::now();
-    let linear = box_tets(55);
+    let linear = unit_cube(55, Fill::Tet(Kuhn::Lexicographic), 0.0);
     let mesh = HighOrderMesh::from_linear(&linear, 3, NodeFamily::Fekete).unwrap();
     println!(
         "{} tets, {} nodes, built in {:.2?}",

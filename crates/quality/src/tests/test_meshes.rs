@@ -1,5 +1,5 @@
 //! Single-element meshes for the tests: the reference element of a type, its order-p nodes
-//! moved by a known map.
+//! moved by a known map (the meshes of several elements are hocurve-testmeshes').
 
 use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
 use hocurve_nodes::NodeFamily;
@@ -42,60 +42,6 @@ pub fn single_element_of_family(
         *x = map(*x);
     }
     ho
-}
-
-/// The unit cube cut into n³ cubes of 6 tetrahedra each (Kuhn's subdivision along the main
-/// diagonal, conforming), positively oriented.
-pub fn box_tets(n: usize) -> LinearMesh {
-    let id = |i: usize, j: usize, k: usize| (i + (n + 1) * (j + (n + 1) * k)) as u32;
-    let h = 1.0 / n as f64;
-    let mut vertices = Vec::with_capacity((n + 1).pow(3));
-    for k in 0..=n {
-        for j in 0..=n {
-            for i in 0..=n {
-                vertices.push([i as f64 * h, j as f64 * h, k as f64 * h]);
-            }
-        }
-    }
-    let permutations = [
-        [0, 1, 2],
-        [0, 2, 1],
-        [1, 0, 2],
-        [1, 2, 0],
-        [2, 0, 1],
-        [2, 1, 0],
-    ];
-    let mut cells = Vec::with_capacity(6 * n * n * n);
-    for k in 0..n {
-        for j in 0..n {
-            for i in 0..n {
-                for perm in &permutations {
-                    let mut c = [i, j, k];
-                    let mut tet = vec![id(c[0], c[1], c[2])];
-                    for &axis in perm {
-                        c[axis] += 1;
-                        tet.push(id(c[0], c[1], c[2]));
-                    }
-                    // An odd permutation gives a negatively oriented path: swap two.
-                    let odd = matches!(perm, [0, 2, 1] | [1, 0, 2] | [2, 1, 0]);
-                    if odd {
-                        tet.swap(2, 3);
-                    }
-                    cells.push(Element {
-                        kind: ElementType::Tet,
-                        vertices: tet,
-                        entity: 1,
-                    });
-                }
-            }
-        }
-    }
-    LinearMesh {
-        dim: 3,
-        vertices,
-        cells,
-        ..Default::default()
-    }
 }
 
 /// A deterministic pseudo-random number in [0, 1) from a seed (splitmix64).

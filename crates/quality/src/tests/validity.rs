@@ -1,8 +1,9 @@
 use super::*;
 use crate::jacobian::jacobian_determinants;
-use crate::test_meshes::{box_tets, hash01, single_element};
+use crate::test_meshes::{hash01, single_element};
 use crate::{scaled_jacobian, Sampling};
 use hocurve_mesh::ElementType;
+use hocurve_testmeshes::{unit_cube, Fill, Kuhn};
 
 const ALL_TYPES: [ElementType; 5] = [
     ElementType::Tri,
@@ -188,7 +189,7 @@ fn jacobian_touching_zero_is_undecided() {
 
 #[test]
 fn straight_meshes_are_valid_and_the_check_is_deterministic() {
-    let linear = box_tets(2);
+    let linear = unit_cube(2, Fill::Tet(Kuhn::Lexicographic), 0.0);
     let mut mesh =
         HighOrderMesh::from_linear(&linear, 3, hocurve_nodes::NodeFamily::Fekete).unwrap();
     let checks = check_validity(&mesh, &BezierOptions::default()).unwrap();

@@ -1,82 +1,11 @@
 //! Repairs of tangled meshes, checked by the Bézier certification of hocurve-quality.
 
-use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+use hocurve_mesh::{ElementType, HighOrderMesh};
 use hocurve_nodes::NodeFamily;
 use hocurve_quality::{check_validity, BezierOptions, Validity};
+use hocurve_testmeshes::{unit_cube, unit_square, Fill, Kuhn};
 
 use crate::{untangle, UntangleOptions};
-
-/// The unit square (2D) or cube (3D) cut into n^d boxes, each into 2 triangles or 6
-/// tetrahedra (Kuhn), positively oriented.
-fn box_mesh(dim: usize, n: usize) -> LinearMesh {
-    let m = n + 1;
-    let h = 1.0 / n as f64;
-    let id = |i: usize, j: usize, k: usize| (i + m * (j + m * k)) as u32;
-    let mut vertices = Vec::new();
-    for k in 0..if dim == 3 { m } else { 1 } {
-        for j in 0..m {
-            for i in 0..m {
-                vertices.push([i as f64 * h, j as f64 * h, k as f64 * h]);
-            }
-        }
-    }
-    let mut cells = Vec::new();
-    let axes: Vec<Vec<usize>> = if dim == 3 {
-        vec![
-            vec![0, 1, 2],
-            vec![0, 2, 1],
-            vec![1, 0, 2],
-            vec![1, 2, 0],
-            vec![2, 0, 1],
-            vec![2, 1, 0],
-        ]
-    } else {
-        vec![vec![0, 1], vec![1, 0]]
-    };
-    for k in 0..if dim == 3 { n } else { 1 } {
-        for j in 0..n {
-            for i in 0..n {
-                for perm in &axes {
-                    let mut c = [i, j, k];
-                    let mut ids = vec![id(c[0], c[1], c[2])];
-                    for &a in perm {
-                        c[a] += 1;
-                        ids.push(id(c[0], c[1], c[2]));
-                    }
-                    let p: Vec<[f64; 3]> = ids.iter().map(|&v| vertices[v as usize]).collect();
-                    let e = |a: usize| [p[a][0] - p[0][0], p[a][1] - p[0][1], p[a][2] - p[0][2]];
-                    let volume = if dim == 3 {
-                        let (a, b, c) = (e(1), e(2), e(3));
-                        a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
-                            + a[2] * (b[0] * c[1] - b[1] * c[0])
-                    } else {
-                        let (a, b) = (e(1), e(2));
-                        a[0] * b[1] - a[1] * b[0]
-                    };
-                    if volume < 0.0 {
-                        ids.swap(1, 2);
-                    }
-                    let kind = if dim == 3 {
-                        ElementType::Tet
-                    } else {
-                        ElementType::Tri
-                    };
-                    cells.push(Element {
-                        kind,
-                        vertices: ids,
-                        entity: 1,
-                    });
-                }
-            }
-        }
-    }
-    LinearMesh {
-        dim,
-        vertices,
-        cells,
-        ..Default::default()
-    }
-}
 
 fn not_valid(mesh: &HighOrderMesh) -> Vec<usize> {
     check_validity(mesh, &BezierOptions::default())
@@ -108,7 +37,12 @@ fn tangled(
     at: [f64; 3],
     to: [f64; 3],
 ) -> (HighOrderMesh, Vec<[f64; 3]>) {
-    let linear = box_mesh(dim, n);
+    // The unit square or cube cut into n^d boxes, each into 2 triangles or 6 tetrahedra.
+    let linear = if dim == 3 {
+        unit_cube(n, Fill::Tet(Kuhn::LexicographicMiddleSwapped), 0.0)
+    } else {
+        unit_square(n, ElementType::Tri, 0.0)
+    };
     let mesh = HighOrderMesh::from_linear(&linear, order, NodeFamily::Equispaced).expect("mesh");
     let straight = mesh.nodes.clone();
     let mut tangled = mesh;
