@@ -50,29 +50,14 @@ pub fn invalid_cells(quality: &MeshQuality) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hocurve_mesh::{Element, ElementType, LinearMesh};
     use hocurve_nodes::NodeFamily;
+    use hocurve_testmeshes::{high_order, unit_tet};
 
     /// One p = 4 tetrahedron (equispaced nodes) whose first edge node (edge 0–1) is pulled
     /// 40 % of the way to vertex 0 (sampled Ĩ = 0.24, true min det J / max det J = −0.39): det J < 0 only in a small region at that vertex, which the interior
     /// quadrature points of the paper's Ĩ do not reach.
     fn tet_inverted_at_a_vertex() -> HighOrderMesh {
-        let linear = LinearMesh {
-            dim: 3,
-            vertices: vec![
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 1.0],
-            ],
-            cells: vec![Element {
-                kind: ElementType::Tet,
-                vertices: vec![0, 1, 2, 3],
-                entity: 1,
-            }],
-            ..Default::default()
-        };
-        let mut mesh = HighOrderMesh::from_linear(&linear, 4, NodeFamily::Equispaced).unwrap();
+        let mut mesh = high_order(&unit_tet(), 4, NodeFamily::Equispaced);
         let cell = &mesh.cells[0];
         let (v0, first_edge_node) = (cell.nodes[0] as usize, cell.nodes[4] as usize);
         let (a, b) = (mesh.nodes[v0], mesh.nodes[first_edge_node]);

@@ -78,31 +78,22 @@ pub(crate) fn certified_scaled_jacobians(quality: &MeshQuality) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hocurve_mesh::{Element, ElementType, LinearMesh};
+    use hocurve_mesh::{Element, ElementType};
     use hocurve_nodes::NodeFamily;
     use hocurve_quality::{assess, QualityOptions};
+    use hocurve_testmeshes::{high_order, unit_tet};
 
     #[test]
     fn a_correction_goes_when_one_element_on_its_edge_is_not_better_certified() {
         // Two tetrahedra sharing the face 0 1 3; edge 1 2 is on the first only.
-        let tet = |vertices: Vec<u32>| Element {
+        let mut linear = unit_tet();
+        linear.vertices.push([0.0, -1.0, 0.0]);
+        linear.cells.push(Element {
             kind: ElementType::Tet,
-            vertices,
+            vertices: vec![0, 1, 3, 4],
             entity: 1,
-        };
-        let linear = LinearMesh {
-            dim: 3,
-            vertices: vec![
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 1.0],
-                [0.0, -1.0, 0.0],
-            ],
-            cells: vec![tet(vec![0, 1, 2, 3]), tet(vec![0, 1, 3, 4])],
-            ..Default::default()
-        };
-        let mesh = HighOrderMesh::from_linear(&linear, 1, NodeFamily::Equispaced).unwrap();
+        });
+        let mesh = high_order(&linear, 1, NodeFamily::Equispaced);
         let corrected = BTreeSet::from([[0, 1], [1, 2], [2, 3]]);
         let losers = |with: [f64; 2], without: [f64; 2]| {
             corrections_not_helping(&mesh, &corrected, &with, &without)

@@ -155,20 +155,8 @@ mod tests {
             entity: 1,
         };
         LinearMesh {
-            dim: 3,
-            vertices: vec![
-                [0.0, 0.0, 0.0],
-                [1.0, 0.0, 0.0],
-                [0.0, 1.0, 0.0],
-                [0.0, 0.0, 1.0],
-            ],
-            cells: vec![Element {
-                kind: ElementType::Tet,
-                vertices: vec![0, 1, 2, 3],
-                entity: 1,
-            }],
             facets: vec![facet([0, 1, 2]), facet([0, 3, 1])],
-            ..Default::default()
+            ..hocurve_testmeshes::unit_tet()
         }
     }
 

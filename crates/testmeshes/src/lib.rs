@@ -231,6 +231,22 @@ pub fn unit_cube(n: usize, fill: Fill, perturb: impl Into<Perturbation>) -> Line
     }
 }
 
+/// The reference tetrahedron (0,0,0), (1,0,0), (0,1,0), (0,0,1) as one cell, no facets
+/// declared; vertices are appended and cells pushed by tests that need more.
+pub fn unit_tet() -> LinearMesh {
+    LinearMesh {
+        dim: 3,
+        vertices: vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0],
+            [0.0, 0.0, 1.0],
+        ],
+        cells: vec![cell(ElementType::Tet, vec![0, 1, 2, 3])],
+        ..Default::default()
+    }
+}
+
 /// The straight-sided order-`order` mesh of `mesh` on `family` nodes.
 ///
 /// # Panics
