@@ -2,26 +2,12 @@
 //! block sparsity pattern of the stiffness matrix) and a colouring of the cells so that
 //! cells of one colour share no node and can be assembled in parallel.
 
-use hocurve_mesh::HighOrderMesh;
+use hocurve_mesh::{HighOrderMesh, Jagged};
 use rayon::prelude::*;
 
-/// A compressed list of lists: row r is `items[offsets[r]..offsets[r + 1]]`.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub(crate) struct Adjacency {
-    pub offsets: Vec<usize>,
-    pub items: Vec<u32>,
-}
-
-impl Adjacency {
-    pub fn row(&self, r: usize) -> &[u32] {
-        &self.items[self.offsets[r]..self.offsets[r + 1]]
-    }
-
-    #[cfg(test)]
-    pub fn len(&self) -> usize {
-        self.offsets.len() - 1
-    }
-}
+/// A compressed list of lists (the mesh crate's [`Jagged`]): the cells of each node, the
+/// nodes each node couples with.
+pub(crate) type Adjacency = Jagged<u32>;
 
 /// The cells containing each node, in increasing cell order.
 pub(crate) fn node_cells(mesh: &HighOrderMesh) -> Adjacency {
@@ -43,7 +29,7 @@ pub(crate) fn node_cells(mesh: &HighOrderMesh) -> Adjacency {
             next[n as usize] += 1;
         }
     }
-    Adjacency { offsets, items }
+    Adjacency::from_parts(offsets, items)
 }
 
 /// For each node, the sorted nodes it shares a cell with (itself included, also when it is
@@ -66,10 +52,7 @@ pub(crate) fn node_graph(mesh: &HighOrderMesh, cells_of_node: &Adjacency) -> Adj
     for row in &rows {
         offsets.push(offsets[offsets.len() - 1] + row.len());
     }
-    Adjacency {
-        offsets,
-        items: rows.concat(),
-    }
+    Adjacency::from_parts(offsets, rows.concat())
 }
 
 /// Greedy colouring: each cell, in order, takes the lowest colour not used by an earlier

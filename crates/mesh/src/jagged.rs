@@ -22,6 +22,22 @@ impl<T> Jagged<T> {
         Self::default()
     }
 
+    /// The rows `values[offsets[r]..offsets[r + 1]]`: `offsets` starts at 0, never
+    /// decreases and ends at `values.len()` (built by code, not read from files).
+    ///
+    /// # Panics
+    ///
+    /// If the offsets do not describe `values` that way.
+    pub fn from_parts(offsets: Vec<usize>, values: Vec<T>) -> Self {
+        assert!(
+            offsets.first() == Some(&0)
+                && offsets.windows(2).all(|w| w[0] <= w[1])
+                && offsets.last() == Some(&values.len()),
+            "offsets that do not describe the values"
+        );
+        Jagged { offsets, values }
+    }
+
     /// Appends a row.
     pub fn push_row(&mut self, row: impl IntoIterator<Item = T>) {
         self.values.extend(row);

@@ -8,10 +8,7 @@ use crate::BoundaryConditions;
 fn block_mat_vec_equals_the_csr_one() {
     // Three nodes in 3D, all coupled, with a dense pseudo-random symmetric K; node 1 slides
     // (2 dofs), node 2 is free, node 0 is prescribed.
-    let graph = Adjacency {
-        offsets: vec![0, 3, 6, 9],
-        items: vec![0, 1, 2, 0, 1, 2, 0, 1, 2],
-    };
+    let graph = Adjacency::from_parts(vec![0, 3, 6, 9], vec![0, 1, 2, 0, 1, 2, 0, 1, 2]);
     let value = |r: usize, c: usize| 1.0 + ((r * 7 + c * 7 + r * c) % 11) as f64 / 3.0;
     let k = from_rows(
         9,
