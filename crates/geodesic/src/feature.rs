@@ -22,8 +22,8 @@ use hocurve_nurbs::{EntityGeometry, GeometryModel};
 
 use crate::association::snap_onto;
 use crate::chart::SurfaceChart;
+use crate::curve_arc::CurveArc;
 use crate::path::{chord_point_at_fraction, cumulative_lengths, distance};
-use crate::placement::CurveArc;
 use crate::vector::{add, cross, dot, end_tangent, scale, SurfaceFrame};
 use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
 

@@ -8,6 +8,7 @@
 pub mod association;
 pub mod chart;
 pub mod correction;
+mod curve_arc;
 pub mod feature;
 pub mod path;
 pub mod placement;
