@@ -10,9 +10,9 @@ pub mod chart;
 pub mod correction;
 mod curve_arc;
 pub mod feature;
+pub(crate) mod frame;
 pub mod path;
 pub mod placement;
-pub(crate) mod vector;
 
 pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
 pub use chart::SurfaceChart;

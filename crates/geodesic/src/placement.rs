@@ -16,6 +16,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use hocurve_mesh::HighOrderMesh;
 use hocurve_nodes::{NodeEntity, ReferenceNodes, Shape};
 use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
+use hocurve_nurbs::vec3::{add, distance, scale, sub};
 use hocurve_nurbs::{EntityGeometry, GeometryModel};
 use rayon::prelude::*;
 
@@ -24,8 +25,8 @@ use crate::chart::SurfaceChart;
 use crate::correction::{check_edge, CorrectedEdge, EdgeEnd, Neighbour};
 use crate::curve_arc::CurveArc;
 use crate::feature::FeatureCurve;
-use crate::path::{distance, GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
-use crate::vector::end_tangent;
+use crate::frame::end_tangent;
+use crate::path::{GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
 use crate::{BoundaryAssociation, GeodesicError};
 
 /// How boundary nodes are placed on the geometry.
@@ -675,11 +676,7 @@ fn geodesic_point(
             path.at_fraction(&chart, fraction)
         }
         EntityGeometry::Curve(_) => {
-            let x = [
-                from.1[0] + fraction * (to.1[0] - from.1[0]),
-                from.1[1] + fraction * (to.1[1] - from.1[1]),
-                from.1[2] + fraction * (to.1[2] - from.1[2]),
-            ];
+            let x = add(from.1, scale(sub(to.1, from.1), fraction));
             ([0.0; 2], x)
         }
     }
@@ -738,11 +735,7 @@ fn quadrilateral_node(
     // Vertices 0 (0,0), 1 (1,0), 2 (1,1), 3 (0,1).
     let x_s = geodesic_point(geometry, entity, along(0, 1, s)?, along(3, 2, s)?, t);
     let x_t = geodesic_point(geometry, entity, along(0, 3, t)?, along(1, 2, t)?, s);
-    let mean = [
-        0.5 * (x_s.1[0] + x_t.1[0]),
-        0.5 * (x_s.1[1] + x_t.1[1]),
-        0.5 * (x_s.1[2] + x_t.1[2]),
-    ];
+    let mean = scale(add(x_s.1, x_t.1), 0.5);
     Ok(project(geometry, entity, mean, x_s.0))
 }
 
