@@ -17,6 +17,8 @@ pub(crate) struct CurveArc<'a> {
 }
 
 impl<'a> CurveArc<'a> {
+    /// The arc of `curve` from parameter `from` to `to`, across the seam when that is the
+    /// shorter way round a closed curve.
     pub(crate) fn new(curve: &'a NurbsCurve, from: f64, to: f64) -> Self {
         let direct = arc_length(curve, from, to);
         if curve.is_closed() {
