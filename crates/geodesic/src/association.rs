@@ -17,11 +17,15 @@
 use std::collections::BTreeMap;
 
 use hocurve_mesh::LinearMesh;
+use hocurve_nurbs::vec3::distance;
 use hocurve_nurbs::GeometryModel;
 use rayon::prelude::*;
 
-use crate::path::distance;
 use crate::GeodesicError;
+
+/// Diagonal of the bounding box of the mesh's vertices, which the default tolerance is
+/// relative to (re-exported from [`hocurve_nurbs::vec3`], where it lives).
+pub use hocurve_nurbs::vec3::bounding_box_diagonal;
 
 /// How facets find their entity.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -66,22 +70,6 @@ impl BoundaryAssociation {
         }
         out
     }
-}
-
-/// Diagonal of the bounding box of the mesh's vertices.
-pub fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for d in 0..3 {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
-        }
-    }
-    if points.is_empty() {
-        return 0.0;
-    }
-    ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2) + (hi[2] - lo[2]).powi(2)).sqrt()
 }
 
 /// Associates the declared facets of `mesh` with entities of `geometry` (see the module doc).

@@ -3,6 +3,7 @@
 //! a seam or start at a pole.
 
 use hocurve_nurbs::inversion::closest_point_on_surface_near;
+use hocurve_nurbs::vec3::distance;
 use hocurve_nurbs::NurbsSurface;
 
 /// A NURBS surface with its periodicity and poles.
@@ -82,10 +83,7 @@ impl<'a> SurfaceChart<'a> {
         let ((u0, u1), (v0, v1)) = (self.domain[0], self.domain[1]);
         let x = self.surface.point(u, v);
         let tolerance = 1e-7 * self.surface.size().max(f64::MIN_POSITIVE);
-        let near = |p: [f64; 3]| {
-            let d = [x[0] - p[0], x[1] - p[1], x[2] - p[2]];
-            (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt() <= tolerance
-        };
+        let near = |p: [f64; 3]| distance(x, p) <= tolerance;
         let candidates = [
             (self.poles[0], (0, v0), [u, v0]),
             (self.poles[1], (0, v1), [u, v1]),

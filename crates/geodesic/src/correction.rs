@@ -54,11 +54,12 @@
 //! not considered here"); the degree-p interpolant reproduces it exactly. Edges on a curve
 //! (2D boundaries, 3D feature edges) are fixed by the geometry and are not corrected.
 
+use hocurve_nurbs::vec3::{add, cross, dot, reject, scale, sub, unit};
 use hocurve_nurbs::GeometryModel;
 
 use crate::chart::SurfaceChart;
+use crate::frame::SurfaceFrame;
 use crate::path::GeodesicPath;
-use crate::vector::{add, cross, dot, reject, scale, sub, unit, SurfaceFrame};
 
 /// A polynomial curve of degree 3–5 given by Hermite data at t = 0 and t = 1 (Fig. 4b),
 /// stored by its monomial coefficients; `reversed` curves are evaluated at 1 − t.

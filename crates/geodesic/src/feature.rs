@@ -18,14 +18,15 @@
 //! foot point there, by Newton's method on the two tangent planes and the curve's normal
 //! plane), so it lies on each of them to round-off.
 
+use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
+use hocurve_nurbs::vec3::{add, cross, distance, dot, scale};
 use hocurve_nurbs::{EntityGeometry, GeometryModel};
 
 use crate::association::snap_onto;
 use crate::chart::SurfaceChart;
-use crate::path::{chord_point_at_fraction, cumulative_lengths, distance};
-use crate::placement::CurveArc;
-use crate::vector::{add, cross, dot, end_tangent, scale, SurfaceFrame};
-use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
+use crate::curve_arc::CurveArc;
+use crate::frame::{end_tangent, SurfaceFrame};
+use crate::path::{chord_point_at_fraction, cumulative_lengths};
 
 /// At least this many segments in a traced intersection curve.
 const MIN_SEGMENTS: usize = 8;

@@ -27,10 +27,11 @@
 pub mod association;
 pub mod chart;
 pub mod correction;
+mod curve_arc;
 pub mod feature;
+pub(crate) mod frame;
 pub mod path;
 pub mod placement;
-pub(crate) mod vector;
 
 pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
 pub use chart::SurfaceChart;

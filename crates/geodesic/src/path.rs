@@ -9,6 +9,8 @@
 //! polyline, with the parameter interpolated linearly inside a segment and the point
 //! evaluated on the surface — so every point returned lies on the surface exactly.
 
+use hocurve_nurbs::vec3::{add, cross, distance, dot, norm, scale, sub};
+
 use crate::chart::SurfaceChart;
 
 /// Default relative tolerance on the change of the polyline length between refinements.
@@ -148,11 +150,7 @@ pub(crate) fn chord_point_at_fraction(
         tau
     };
     let (xa, xb) = (points[k], points[k + 1]);
-    let on_chord = [
-        xa[0] + t * (xb[0] - xa[0]),
-        xa[1] + t * (xb[1] - xa[1]),
-        xa[2] + t * (xb[2] - xa[2]),
-    ];
+    let on_chord = add(xa, scale(sub(xb, xa), t));
     (k, t, on_chord)
 }
 
@@ -173,26 +171,15 @@ fn bisector_minimum(
     // whose image drifts along the path on an uneven parametrisation): the new point then
     // splits the segment into two equal chords and the polyline's chords stay even.
     let guess = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
-    let chord_mid = [
-        0.5 * (xa[0] + xb[0]),
-        0.5 * (xa[1] + xb[1]),
-        0.5 * (xa[2] + xb[2]),
-    ];
+    let chord_mid = scale(add(xa, xb), 0.5);
     let mid = chart.unroll_near(chart.project_near(chord_mid, guess).0, guess);
-    let chord = [xb[0] - xa[0], xb[1] - xa[1], xb[2] - xa[2]];
+    let chord = sub(xb, xa);
     let chord_length = distance(xa, xb);
     let mut direction = [-(b[1] - a[1]), b[0] - a[0]];
     let [u, v] = chart.fold(mid);
     let d = chart.surface.derivatives(u, v);
     let g = [dot(d.du, chord), dot(d.dv, chord)];
-    let image = |w: [f64; 2]| {
-        let x = [
-            d.du[0] * w[0] + d.dv[0] * w[1],
-            d.du[1] * w[0] + d.dv[1] * w[1],
-            d.du[2] * w[0] + d.dv[2] * w[1],
-        ];
-        dot(x, x).sqrt()
-    };
+    let image = |w: [f64; 2]| norm(add(scale(d.du, w[0]), scale(d.dv, w[1])));
     let perpendicular = [g[1], -g[0]];
     let len = image(perpendicular);
     if len > 1e-12 * chord_length.max(f64::MIN_POSITIVE) && len.is_finite() {
@@ -227,12 +214,8 @@ fn bisector_minimum(
         let d = chart.surface.derivatives(u, v);
         let x = d.point;
         let (ea, eb) = (unit_from(xa, x), unit_from(xb, x));
-        let tangent = [
-            d.du[0] * direction[0] + d.dv[0] * direction[1],
-            d.du[1] * direction[0] + d.dv[1] * direction[1],
-            d.du[2] * direction[0] + d.dv[2] * direction[1],
-        ];
-        dot([ea[0] + eb[0], ea[1] + eb[1], ea[2] + eb[2]], tangent)
+        let tangent = add(scale(d.du, direction[0]), scale(d.dv, direction[1]));
+        dot(add(ea, eb), tangent)
     };
     // The root is usually bracketed by the whole bisector; Brent's minimum is the fallback.
     let t = if lo == hi {
@@ -249,8 +232,8 @@ fn bisector_minimum(
 
 /// Unit vector from `from` to `x` (zero if they coincide).
 fn unit_from(from: [f64; 3], x: [f64; 3]) -> [f64; 3] {
-    let d = [x[0] - from[0], x[1] - from[1], x[2] - from[2]];
-    let n = dot(d, d).sqrt();
+    let d = sub(x, from);
+    let n = norm(d);
     if n > 0.0 {
         [d[0] / n, d[1] / n, d[2] / n]
     } else {
@@ -289,10 +272,6 @@ fn polish_root(g: impl Fn(f64) -> f64, t0: f64, h: f64) -> f64 {
         }
     }
     b
-}
-
-fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
 /// Minimum of a unimodal `f` on [lo, hi] by Brent's method (golden section with parabolic
@@ -419,24 +398,13 @@ pub(crate) fn segment_arc(points: &[[f64; 3]], i: usize) -> (f64, f64) {
 /// Curvature 1/R of the circle through three points: 4·area / (|ab| |bc| |ca|).
 fn circle_curvature(a: [f64; 3], b: [f64; 3], c: [f64; 3]) -> f64 {
     let (ab, bc, ca) = (distance(a, b), distance(b, c), distance(c, a));
-    let u = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let v = [c[0] - a[0], c[1] - a[1], c[2] - a[2]];
-    let cr = [
-        u[1] * v[2] - u[2] * v[1],
-        u[2] * v[0] - u[0] * v[2],
-        u[0] * v[1] - u[1] * v[0],
-    ];
-    let twice_area = dot(cr, cr).sqrt();
+    let twice_area = norm(cross(sub(b, a), sub(c, a)));
     let denom = ab * bc * ca;
     if denom > 0.0 {
         2.0 * twice_area / denom
     } else {
         0.0
     }
-}
-
-pub(crate) fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 
 #[cfg(test)]

@@ -15,17 +15,18 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 
 use hocurve_mesh::HighOrderMesh;
 use hocurve_nodes::{NodeEntity, ReferenceNodes, Shape};
-use hocurve_nurbs::arc_length::{arc_length, parameter_at_length_fraction};
 use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
-use hocurve_nurbs::{EntityGeometry, GeometryModel, NurbsCurve};
+use hocurve_nurbs::vec3::{add, distance, scale, sub};
+use hocurve_nurbs::{EntityGeometry, GeometryModel};
 use rayon::prelude::*;
 
 use crate::association::snap_onto;
 use crate::chart::SurfaceChart;
 use crate::correction::{check_edge, CorrectedEdge, EdgeEnd, Neighbour};
+use crate::curve_arc::CurveArc;
 use crate::feature::FeatureCurve;
-use crate::path::{distance, GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
-use crate::vector::end_tangent;
+use crate::frame::end_tangent;
+use crate::path::{GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
 use crate::{BoundaryAssociation, GeodesicError};
 
 /// How boundary nodes are placed on the geometry.
@@ -163,78 +164,6 @@ pub(crate) enum EdgeCarrier<'a> {
     Feature(FeatureCurve<'a>),
     /// A surface edge replaced by the minimum-angle correction.
     Corrected(CorrectedEdge<'a>),
-}
-
-/// A piece of a NURBS curve from `from` to `to`, the short way round if the curve is closed.
-pub(crate) struct CurveArc<'a> {
-    curve: &'a NurbsCurve,
-    from: f64,
-    to: f64,
-    /// Crosses the seam of a closed curve.
-    wraps: bool,
-    /// Length of the arc.
-    pub(crate) length: f64,
-}
-
-impl<'a> CurveArc<'a> {
-    pub(crate) fn new(curve: &'a NurbsCurve, from: f64, to: f64) -> Self {
-        let direct = arc_length(curve, from, to);
-        if curve.is_closed() {
-            let (s0, s1) = curve.domain();
-            let total = arc_length(curve, s0, s1);
-            if total - direct < direct {
-                return Self {
-                    curve,
-                    from,
-                    to,
-                    wraps: true,
-                    length: total - direct,
-                };
-            }
-        }
-        Self {
-            curve,
-            from,
-            to,
-            wraps: false,
-            length: direct,
-        }
-    }
-
-    /// The point at `fraction` of the arc length from `from` (the paper's Eq. (4)).
-    pub(crate) fn at(&self, fraction: f64) -> [f64; 3] {
-        let c = self.curve;
-        if !self.wraps {
-            return c.point(parameter_at_length_fraction(
-                c, self.from, self.to, fraction,
-            ));
-        }
-        let (s0, s1) = c.domain();
-        // Through the end of the domain (forwards) or through its start (backwards).
-        let (seam_out, seam_in) = if self.from > self.to {
-            (s1, s0)
-        } else {
-            (s0, s1)
-        };
-        let first = arc_length(c, self.from, seam_out);
-        let target = fraction * self.length;
-        if target <= first && first > 0.0 {
-            c.point(parameter_at_length_fraction(
-                c,
-                self.from,
-                seam_out,
-                target / first,
-            ))
-        } else {
-            let rest = (self.length - first).max(f64::MIN_POSITIVE);
-            c.point(parameter_at_length_fraction(
-                c,
-                seam_in,
-                self.to,
-                (target - first) / rest,
-            ))
-        }
-    }
 }
 
 /// Target positions of the nodes of every associated facet of `mesh` (a straight-sided
@@ -747,11 +676,7 @@ fn geodesic_point(
             path.at_fraction(&chart, fraction)
         }
         EntityGeometry::Curve(_) => {
-            let x = [
-                from.1[0] + fraction * (to.1[0] - from.1[0]),
-                from.1[1] + fraction * (to.1[1] - from.1[1]),
-                from.1[2] + fraction * (to.1[2] - from.1[2]),
-            ];
+            let x = add(from.1, scale(sub(to.1, from.1), fraction));
             ([0.0; 2], x)
         }
     }
@@ -810,11 +735,7 @@ fn quadrilateral_node(
     // Vertices 0 (0,0), 1 (1,0), 2 (1,1), 3 (0,1).
     let x_s = geodesic_point(geometry, entity, along(0, 1, s)?, along(3, 2, s)?, t);
     let x_t = geodesic_point(geometry, entity, along(0, 3, t)?, along(1, 2, t)?, s);
-    let mean = [
-        0.5 * (x_s.1[0] + x_t.1[0]),
-        0.5 * (x_s.1[1] + x_t.1[1]),
-        0.5 * (x_s.1[2] + x_t.1[2]),
-    ];
+    let mean = scale(add(x_s.1, x_t.1), 0.5);
     Ok(project(geometry, entity, mean, x_s.0))
 }
 

@@ -34,6 +34,17 @@ pub fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// a / |a|, or `None` for a zero (or non-finite) vector.
+pub fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
+    let n = norm(a);
+    (n > 0.0 && n.is_finite()).then(|| scale(a, 1.0 / n))
+}
+
+/// The component of `a` orthogonal to the unit vector `n`: a − (a · n) n.
+pub fn reject(a: [f64; 3], n: [f64; 3]) -> [f64; 3] {
+    sub(a, scale(n, dot(a, n)))
+}
+
 /// |a − b|.
 pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     norm(sub(a, b))

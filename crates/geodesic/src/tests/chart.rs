@@ -1,9 +1,10 @@
 //! Poles of a chart, decided in 3D, and what paths and tangent frames make of them.
 
 use super::*;
+use crate::frame::SurfaceFrame;
 use crate::path::GeodesicPath;
 use crate::tests::sphere_model;
-use crate::vector::{dot, norm, SurfaceFrame};
+use hocurve_nurbs::vec3::{cross, distance, dot, norm};
 use hocurve_nurbs::EntityGeometry;
 
 fn unit_sphere() -> hocurve_nurbs::GeometryModel {
@@ -137,11 +138,7 @@ fn a_path_from_a_pole_at_the_end_of_a_bounded_range_is_the_great_circle() {
         );
         // Every point on the great circle through the pole and the target.
         let normal = {
-            let c = [
-                pole[1] * target[2] - pole[2] * target[1],
-                pole[2] * target[0] - pole[0] * target[2],
-                pole[0] * target[1] - pole[1] * target[0],
-            ];
+            let c = cross(pole, target);
             let n = norm(c);
             [c[0] / n, c[1] / n, c[2] / n]
         };
@@ -185,10 +182,7 @@ fn a_path_from_the_pole_of_a_b_spline_ellipsoid_does_not_collapse_onto_the_pole(
         param_of(&chart, other),
         1e-10,
     );
-    let chord = ((other[0] - pole[0]).powi(2)
-        + (other[1] - pole[1]).powi(2)
-        + (other[2] - pole[2]).powi(2))
-    .sqrt();
+    let chord = distance(other, pole);
     let longest = path
         .lengths
         .windows(2)

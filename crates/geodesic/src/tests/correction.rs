@@ -5,13 +5,13 @@ use std::collections::BTreeMap;
 
 use super::*;
 use crate::tests::sphere_model;
-use crate::vector::norm;
 use crate::{
     associate_boundary, place_boundary_nodes_with, AssociationRule, BoundaryNodeStrategy,
     BoundaryTargets, PlacementOptions,
 };
 use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
 use hocurve_nodes::{NodeFamily, Shape};
+use hocurve_nurbs::vec3::{add, cross, norm, reject, scale, sub, unit};
 
 fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
     norm(sub(a, b)) <= tol
@@ -369,11 +369,7 @@ fn ends_on_feature_curves_are_neither_measured_nor_corrected() {
     };
     let (a, b) = (on_sphere(1.2, 0.0), on_sphere(1.2, 0.3));
     let end = |point: [f64; 3], towards: [f64; 3], neighbours: Vec<Neighbour>, smooth| {
-        let tangent = crate::vector::unit(crate::vector::reject(
-            crate::vector::sub(towards, point),
-            point,
-        ))
-        .expect("a tangent");
+        let tangent = unit(reject(sub(towards, point), point)).expect("a tangent");
         EdgeEnd {
             vertex: 0,
             point,
@@ -386,13 +382,13 @@ fn ends_on_feature_curves_are_neither_measured_nor_corrected() {
     // At a, a neighbour 2° off the edge: below the 10° limit.
     let t_a = end(a, b, Vec::new(), true).tangent;
     let n_a = a;
-    let close = crate::vector::add(
-        crate::vector::scale(t_a, 2f64.to_radians().cos()),
-        crate::vector::scale(crate::vector::cross(n_a, t_a), 2f64.to_radians().sin()),
+    let close = add(
+        scale(t_a, 2f64.to_radians().cos()),
+        scale(cross(n_a, t_a), 2f64.to_radians().sin()),
     );
     let neighbour = Neighbour {
         tangent: close,
-        far_vertex: crate::vector::add(a, crate::vector::scale(close, 0.3)),
+        far_vertex: add(a, scale(close, 0.3)),
         correctable: false,
     };
     let limit = 10f64.to_radians();

@@ -5,7 +5,6 @@ use std::collections::BTreeMap;
 use std::f64::consts::PI;
 
 use super::*;
-use crate::vector::{norm, sub};
 use crate::{
     associate_boundary, place_boundary_nodes_with, AssociationRule, BoundaryNodeStrategy,
     BoundaryTargets, PlacementOptions,
@@ -13,6 +12,7 @@ use crate::{
 use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
 use hocurve_nodes::{gauss_legendre, NodeFamily, Shape};
 use hocurve_nurbs::shapes::{circle, cylinder, AnalyticShape};
+use hocurve_nurbs::vec3::{norm, sub};
 use hocurve_nurbs::{GeometricEntity, NurbsSurface};
 
 /// The plane z = slope · x as a bilinear patch over [−2, 2]².

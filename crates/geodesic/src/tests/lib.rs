@@ -156,14 +156,11 @@ mod placement {
     use hocurve_mesh::{Element, ElementType, HighOrderMesh, PhysicalGroup};
     use hocurve_nodes::{NodeFamily, ReferenceNodes, Shape};
     use hocurve_nurbs::shapes::circle;
+    use hocurve_nurbs::vec3::{distance, dot, norm, sub};
     use std::collections::BTreeMap;
 
-    fn norm(x: [f64; 3]) -> f64 {
-        (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt()
-    }
-
     fn angle(a: [f64; 3], b: [f64; 3]) -> f64 {
-        let d = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (norm(a) * norm(b));
+        let d = dot(a, b) / (norm(a) * norm(b));
         d.clamp(-1.0, 1.0).acos()
     }
 
@@ -196,7 +193,7 @@ mod placement {
                     _ => continue,
                 };
                 let (vi, vj) = (shape.vertices()[i], shape.vertices()[j]);
-                let reference = crate::path::distance(vi, *xi) / crate::path::distance(vi, vj);
+                let reference = distance(vi, *xi) / distance(vi, vj);
                 let (a, b) = (targets[&facet.nodes[i]], targets[&facet.nodes[j]]);
                 out.push((along(a, targets[n]) / along(a, b), reference));
             }
@@ -295,7 +292,7 @@ mod placement {
         let mesh = HighOrderMesh::from_linear(&linear, 5, NodeFamily::Fekete).unwrap();
         let t = place_boundary_nodes(&mesh, &model, &a, BoundaryNodeStrategy::Geodesic).unwrap();
         let c = [0.5, 0.0, 0.0];
-        let rel = |x: [f64; 3]| [x[0] - c[0], x[1] - c[1], x[2] - c[2]];
+        let rel = |x: [f64; 3]| sub(x, c);
         for x in t.targets.values() {
             assert!((norm(rel(*x)) - 10.0).abs() < 1e-13 * 10.0);
         }
@@ -367,7 +364,7 @@ mod placement {
                         let y = map(*x);
                         let nearest = points
                             .iter()
-                            .map(|z| crate::path::distance(*z, y))
+                            .map(|z| distance(*z, y))
                             .fold(f64::INFINITY, f64::min);
                         assert!(nearest < 1e-8, "{family:?} p={p}: {nearest}");
                     }

@@ -1,5 +1,7 @@
 use super::*;
-use std::path::PathBuf;
+use crate::{IoError, Location};
+use hocurve_mesh::{Element, ElementType, LinearMesh, PhysicalGroup};
+use std::path::{Path, PathBuf};
 
 fn fixture(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -1,6 +1,10 @@
 use super::*;
 use crate::test_meshes::{all_meshes, cell_bits, curved, facet_bits};
 use crate::write_msh;
+use crate::IoError;
+use hocurve_mesh::HighOrderMesh;
+use hocurve_nodes::NodeFamily;
+use std::path::Path;
 
 fn parse(s: &str) -> Result<HighOrderMesh, IoError> {
     parse_high_order_msh(s.as_bytes(), Path::new("test.msh"))

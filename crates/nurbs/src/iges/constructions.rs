@@ -5,7 +5,7 @@
 
 use std::f64::consts::{FRAC_PI_2, TAU};
 
-use super::convert::RECOGNITION_TOLERANCE;
+use super::tolerance::RECOGNITION_TOLERANCE;
 use super::BSplineSurfaceData;
 use crate::shapes::{orthonormal_frame, AnalyticShape};
 use crate::vec3::{add, cross, distance, dot, norm, scale, sub};

@@ -43,16 +43,12 @@ use super::constructions::{
     line_segment, model_plane, plane_patch, restrict_curve, revolve_curve, similarity_scale,
     snap_full_turn, transform_curve, transform_shape, transform_surface, Affine, IDENTITY,
 };
+use super::tolerance::RECOGNITION_TOLERANCE;
 use super::{compose, read_iges, EntityData, IgesEntity, IgesError, IgesModel};
 use crate::model::{EntityGeometry, GeometricEntity, GeometryModel};
 use crate::shapes::AnalyticShape;
 use crate::vec3::{add, cross, distance, dot, norm, scale, sub};
 use crate::{NurbsCurve, NurbsSurface};
-
-/// Relative tolerance with which a value in the file is taken as its exact intent: a full
-/// turn, an arc whose end is its start, a centre on an axis, an orthogonal 124 matrix.
-/// OpenCASCADE writes 10 significant digits (2π as `6.283185307`, off by 1.8e-10).
-pub const RECOGNITION_TOLERANCE: f64 = 1e-8;
 
 /// Converts every independent entity of a parsed IGES file into a named exact NURBS curve or
 /// surface (see the module documentation for what is kept and how).

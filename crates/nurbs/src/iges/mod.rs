@@ -16,13 +16,15 @@ mod constructions;
 mod convert;
 mod entities;
 mod sections;
+mod tolerance;
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-pub use convert::{geometry_from_iges, read_iges_geometry, RECOGNITION_TOLERANCE};
+pub use convert::{geometry_from_iges, read_iges_geometry};
 pub use entities::{BSplineCurveData, BSplineSurfaceData, EntityData};
 pub use sections::{parse_int, parse_real, DirectoryEntry, GlobalSection, Param, ParamValue};
+pub use tolerance::RECOGNITION_TOLERANCE;
 
 /// Deepest chain of entity references accepted, and longest chain of 124 transformation
 /// matrices (a trimmed surface of a surface of revolution of a composite of curves is 4

@@ -1,47 +1,10 @@
-//! Small 3-vector arithmetic on `[f64; 3]`, and the tangent frame of a surface at a point.
+//! Local differential geometry: the frame of a surface at a point (derivatives, unit normal,
+//! normal curvature) and the unit tangent at either end of a polyline that samples a curve.
 
+use hocurve_nurbs::vec3::{cross, dot, norm, scale, sub, unit};
 use hocurve_nurbs::SurfaceDerivatives;
 
 use crate::chart::SurfaceChart;
-
-pub(crate) fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
-}
-
-pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-pub(crate) fn scale(a: [f64; 3], s: f64) -> [f64; 3] {
-    [a[0] * s, a[1] * s, a[2] * s]
-}
-
-pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub(crate) fn norm(a: [f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-/// `a / |a|`, or `None` for a zero (or non-finite) vector.
-pub(crate) fn unit(a: [f64; 3]) -> Option<[f64; 3]> {
-    let n = norm(a);
-    (n > 0.0 && n.is_finite()).then(|| scale(a, 1.0 / n))
-}
-
-/// The component of `a` orthogonal to the unit vector `n`.
-pub(crate) fn reject(a: [f64; 3], n: [f64; 3]) -> [f64; 3] {
-    sub(a, scale(n, dot(a, n)))
-}
 
 /// First and second derivatives of a surface at a regular parameter near `uv`, with the unit
 /// normal. At a degenerate point (a pole, where ∂S/∂u or ∂S/∂v vanishes) the frame is taken a
