@@ -1,6 +1,9 @@
+use super::cell_types::vtk_order;
 use super::*;
+use crate::ordering::vtk_permutation;
 use crate::test_meshes::{all_meshes, cell_bits, curved, two_cells};
 use crate::{write_vtu_with, VtuEncoding};
+use hocurve_nodes::Shape;
 use std::io::Write as _;
 
 fn encode_base64(bytes: &[u8]) -> String {
