@@ -1,9 +1,15 @@
 //! Options, shared edge nodes and the minimum-angle report on the bundled fixtures.
 
+use super::edge_carriers::edge_carrier;
 use super::*;
 use crate::tests::{fixture, sphere_model};
-use crate::{associate_boundary, AssociationRule};
+use crate::{associate_boundary, AssociationRule, GeodesicError};
+use hocurve_mesh::HighOrderMesh;
 use hocurve_nodes::NodeFamily;
+use hocurve_nodes::{NodeEntity, ReferenceNodes, Shape};
+use hocurve_nurbs::vec3::distance;
+use hocurve_nurbs::GeometryModel;
+use std::collections::BTreeMap;
 
 /// The NACA0012 fixture's geometry (the JSON description beside the mesh).
 fn naca_model() -> GeometryModel {

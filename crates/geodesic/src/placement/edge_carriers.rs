@@ -1,0 +1,114 @@
+//! The carrier of each mesh edge (boundary curve, geodesic, feature curve or corrected
+//! curve) and the points at fractions of its length.
+
+use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
+use hocurve_nurbs::{EntityGeometry, GeometryModel};
+
+use crate::chart::SurfaceChart;
+use crate::correction::CorrectedEdge;
+use crate::curve_arc::CurveArc;
+use crate::feature::FeatureCurve;
+use crate::frame::end_tangent;
+use crate::path::{GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
+use crate::{BoundaryAssociation, GeodesicError};
+
+/// How the interior nodes of one mesh edge are placed: by the fraction of the length from the
+/// edge's first vertex.
+pub(crate) enum EdgeCarrier<'a> {
+    /// A boundary curve (2D) between two parameters, possibly across the seam of a closed curve.
+    Curve(CurveArc<'a>),
+    /// An approximate geodesic on a surface (an edge inside one surface patch).
+    Surface {
+        chart: SurfaceChart<'a>,
+        path: GeodesicPath,
+    },
+    /// The intersection of two or more surfaces (a feature edge, on a patch boundary).
+    Feature(FeatureCurve<'a>),
+    /// A surface edge replaced by the minimum-angle correction.
+    Corrected(CorrectedEdge<'a>),
+}
+
+/// The carrier of the mesh edge from vertex `a` to vertex `b` lying on `entities`: the
+/// boundary curve (2D), the geodesic on the one surface, or the intersection curve of
+/// several surfaces (traced to the relative length tolerance `feature_tolerance`).
+pub(crate) fn edge_carrier<'a>(
+    geometry: &'a GeometryModel,
+    association: &BoundaryAssociation,
+    [a, b]: [u32; 2],
+    entities: &[usize],
+    feature_tolerance: f64,
+) -> Result<EdgeCarrier<'a>, GeodesicError> {
+    let vertex = |v: u32| {
+        association.vertex_targets.get(&v).copied().ok_or_else(|| {
+            GeodesicError::Mismatch(format!("vertex {v} of a curved facet was not snapped"))
+        })
+    };
+    let (xa, xb) = (vertex(a)?, vertex(b)?);
+    let first = *entities
+        .first()
+        .ok_or_else(|| GeodesicError::Mismatch(format!("edge {a}–{b} lies on no entity")))?;
+    let entity = geometry.entities.get(first).ok_or_else(|| {
+        GeodesicError::Mismatch(format!("entity index {first} is not in the geometry"))
+    })?;
+    match &entity.geometry {
+        EntityGeometry::Curve(curve) => {
+            let (la, lb) = (
+                closest_point_on_curve(curve, xa).param,
+                closest_point_on_curve(curve, xb).param,
+            );
+            Ok(EdgeCarrier::Curve(CurveArc::new(curve, la, lb)))
+        }
+        EntityGeometry::Surface(_) if entities.len() > 1 => Ok(EdgeCarrier::Feature(
+            FeatureCurve::between(geometry, entities, xa, xb, feature_tolerance),
+        )),
+        EntityGeometry::Surface(surface) => {
+            let chart = SurfaceChart::new(surface);
+            let (pa, pb) = (
+                closest_point_on_surface(surface, xa).param,
+                closest_point_on_surface(surface, xb).param,
+            );
+            let path = GeodesicPath::between(&chart, pa, pb, DEFAULT_LENGTH_TOLERANCE);
+            Ok(EdgeCarrier::Surface { chart, path })
+        }
+    }
+}
+
+impl EdgeCarrier<'_> {
+    /// The point at `fraction` of the edge's length from its first vertex, with its surface
+    /// parameter where the carrier is one surface (zero otherwise: users re-invert).
+    pub(crate) fn at(&self, fraction: f64) -> ([f64; 2], [f64; 3]) {
+        match self {
+            EdgeCarrier::Curve(arc) => ([0.0; 2], arc.at(fraction)),
+            EdgeCarrier::Surface { chart, path } => path.at_fraction(chart, fraction),
+            EdgeCarrier::Feature(curve) => ([0.0; 2], curve.at(fraction)),
+            EdgeCarrier::Corrected(edge) => edge.at(fraction),
+        }
+    }
+
+    /// Unit tangent of the uncorrected carrier at its first vertex (`at_end = false`) or its
+    /// last, pointing into the edge; `None` for 2D curves and corrected edges.
+    pub(crate) fn end_tangent(&self, at_end: bool) -> Option<[f64; 3]> {
+        match self {
+            EdgeCarrier::Surface { path, .. } => path.end_tangent(at_end),
+            EdgeCarrier::Feature(curve) => curve.end_tangent(at_end),
+            EdgeCarrier::Curve(_) | EdgeCarrier::Corrected(_) => None,
+        }
+    }
+}
+
+impl GeodesicPath {
+    /// Unit tangent at the start (`at_end = false`) or the end, pointing into the path.
+    pub(crate) fn end_tangent(&self, at_end: bool) -> Option<[f64; 3]> {
+        end_tangent(&self.points, at_end)
+    }
+
+    /// The same path run backwards.
+    pub(crate) fn reversed(&self) -> Self {
+        let total = self.length();
+        Self {
+            params: self.params.iter().rev().copied().collect(),
+            points: self.points.iter().rev().copied().collect(),
+            lengths: self.lengths.iter().rev().map(|l| total - l).collect(),
+        }
+    }
+}

@@ -1,0 +1,175 @@
+//! Face-interior nodes of one facet: the geodesic constructions of Eq. (6) (triangles) and
+//! Eq. (7) (quadrilaterals), projected onto the surface.
+
+use std::collections::BTreeMap;
+
+use hocurve_nodes::{NodeEntity, ReferenceNodes, Shape};
+use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
+use hocurve_nurbs::vec3::{add, distance, scale, sub};
+use hocurve_nurbs::{EntityGeometry, GeometryModel};
+
+use crate::chart::SurfaceChart;
+use crate::path::{GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
+use crate::GeodesicError;
+
+use super::edge_carriers::EdgeCarrier;
+
+/// Places the interior nodes of one facet on entity `entity` (its edge nodes are placed once
+/// per edge, by [`place_boundary_nodes_with`]).
+pub(super) fn place_facet(
+    geometry: &GeometryModel,
+    carriers: &BTreeMap<[u32; 2], EdgeCarrier>,
+    nodes: &[u32],
+    shape: Shape,
+    reference: &ReferenceNodes,
+    entity: usize,
+) -> Result<Vec<(u32, [f64; 3])>, GeodesicError> {
+    // The point at `fraction` of the way from local vertex i to local vertex j.
+    let along =
+        |i: usize, j: usize, fraction: f64| -> Result<([f64; 2], [f64; 3]), GeodesicError> {
+            let (a, b) = (nodes[i], nodes[j]);
+            let key = [a.min(b), a.max(b)];
+            let carrier = carriers
+                .get(&key)
+                .ok_or_else(|| GeodesicError::Mismatch(format!("no carrier for edge {key:?}")))?;
+            let f = if a < b { fraction } else { 1.0 - fraction };
+            Ok(carrier.at(f))
+        };
+    let mut out = Vec::new();
+    if shape == Shape::Line {
+        return Ok(out);
+    }
+    for ((&n, xi), ent) in nodes
+        .iter()
+        .zip(reference.points())
+        .zip(reference.entities())
+    {
+        match *ent {
+            NodeEntity::Vertex(_) | NodeEntity::Edge { .. } => {}
+            NodeEntity::Interior(_) | NodeEntity::Face { .. } => {
+                let x = match shape {
+                    Shape::Tri => triangle_node(geometry, entity, &along, *xi)?,
+                    Shape::Quad => quadrilateral_node(geometry, entity, &along, *xi)?,
+                    other => {
+                        return Err(GeodesicError::Mismatch(format!(
+                            "a boundary facet cannot be a {}",
+                            other.name()
+                        )))
+                    }
+                };
+                out.push((n, x));
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// Points at fractions along two boundary points' geodesic on `entity`.
+pub(super) fn geodesic_point(
+    geometry: &GeometryModel,
+    entity: usize,
+    from: ([f64; 2], [f64; 3]),
+    to: ([f64; 2], [f64; 3]),
+    fraction: f64,
+) -> ([f64; 2], [f64; 3]) {
+    match &geometry.entities[entity].geometry {
+        EntityGeometry::Surface(surface) => {
+            let chart = SurfaceChart::new(surface);
+            // Parameters of edge points may come from another entity's chart on feature
+            // edges; re-invert them where they do not reproduce the point.
+            let param_on = |(uv, x): ([f64; 2], [f64; 3])| {
+                if distance(chart.point(uv), x) <= 1e-9 * surface.size() {
+                    uv
+                } else {
+                    closest_point_on_surface(surface, x).param
+                }
+            };
+            let path = GeodesicPath::between(
+                &chart,
+                param_on(from),
+                param_on(to),
+                DEFAULT_LENGTH_TOLERANCE,
+            );
+            path.at_fraction(&chart, fraction)
+        }
+        EntityGeometry::Curve(_) => {
+            let x = add(from.1, scale(sub(to.1, from.1), fraction));
+            ([0.0; 2], x)
+        }
+    }
+}
+
+type Along<'a> = dyn Fn(usize, usize, f64) -> Result<([f64; 2], [f64; 3]), GeodesicError> + 'a;
+
+/// The paper's Eq. (6): a triangle's interior node from three geodesics of constant
+/// barycentric coordinate, averaged and projected onto the surface.
+pub(super) fn triangle_node(
+    geometry: &GeometryModel,
+    entity: usize,
+    along: &Along,
+    xi: [f64; 3],
+) -> Result<[f64; 3], GeodesicError> {
+    let (alpha, beta, gamma) = (1.0 - xi[0] - xi[1], xi[0], xi[1]);
+    // Line α = const from edge 1–2 to edge 1–3, divided as γ : β.
+    let xa = geodesic_point(
+        geometry,
+        entity,
+        along(0, 1, 1.0 - alpha)?,
+        along(0, 2, 1.0 - alpha)?,
+        gamma / (beta + gamma),
+    );
+    let xb = geodesic_point(
+        geometry,
+        entity,
+        along(1, 0, 1.0 - beta)?,
+        along(1, 2, 1.0 - beta)?,
+        gamma / (gamma + alpha),
+    );
+    let xc = geodesic_point(
+        geometry,
+        entity,
+        along(2, 0, 1.0 - gamma)?,
+        along(2, 1, 1.0 - gamma)?,
+        beta / (beta + alpha),
+    );
+    let mean = [
+        (xa.1[0] + xb.1[0] + xc.1[0]) / 3.0,
+        (xa.1[1] + xb.1[1] + xc.1[1]) / 3.0,
+        (xa.1[2] + xb.1[2] + xc.1[2]) / 3.0,
+    ];
+    Ok(project(geometry, entity, mean, xa.0))
+}
+
+/// The paper's Eq. (7): a quadrilateral's interior node from the two geodesics of constant
+/// ξ and η, averaged and projected onto the surface.
+pub(super) fn quadrilateral_node(
+    geometry: &GeometryModel,
+    entity: usize,
+    along: &Along,
+    xi: [f64; 3],
+) -> Result<[f64; 3], GeodesicError> {
+    let (s, t) = (xi[0], xi[1]);
+    // Vertices 0 (0,0), 1 (1,0), 2 (1,1), 3 (0,1).
+    let x_s = geodesic_point(geometry, entity, along(0, 1, s)?, along(3, 2, s)?, t);
+    let x_t = geodesic_point(geometry, entity, along(0, 3, t)?, along(1, 2, t)?, s);
+    let mean = scale(add(x_s.1, x_t.1), 0.5);
+    Ok(project(geometry, entity, mean, x_s.0))
+}
+
+/// Closest point of `entity` to `x` (Π_S in Eqs. (6), (7)), by Newton from `guess` on a
+/// surface, in closed form where the entity has one.
+pub(super) fn project(
+    geometry: &GeometryModel,
+    entity: usize,
+    x: [f64; 3],
+    guess: [f64; 2],
+) -> [f64; 3] {
+    let e = &geometry.entities[entity];
+    if let Some(shape) = &e.analytic {
+        return shape.closest_point(x).point;
+    }
+    match &e.geometry {
+        EntityGeometry::Surface(s) => SurfaceChart::new(s).project_near(x, guess).1,
+        EntityGeometry::Curve(c) => closest_point_on_curve(c, x).point,
+    }
+}
