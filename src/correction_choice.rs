@@ -78,7 +78,7 @@ pub(crate) fn certified_scaled_jacobians(quality: &MeshQuality) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use hocurve_mesh::{Element, ElementType};
+    use hocurve_mesh::{Element, Shape};
     use hocurve_nodes::NodeFamily;
     use hocurve_quality::{assess, QualityOptions};
     use hocurve_testmeshes::{high_order, unit_tet};
@@ -89,7 +89,7 @@ mod tests {
         let mut linear = unit_tet();
         linear.vertices.push([0.0, -1.0, 0.0]);
         linear.cells.push(Element {
-            kind: ElementType::Tet,
+            kind: Shape::Tet,
             vertices: vec![0, 1, 3, 4],
             entity: 1,
         });

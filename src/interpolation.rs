@@ -1,8 +1,11 @@
 //! The interpolation-error study of the paper's Fig. 12b: how well the order-p nodal
 //! interpolant on a mesh approximates a smooth function, measured in L2.
 
-use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh, MeshError};
-use hocurve_nodes::{LagrangeBasis, QuadratureRule, ReferenceNodes};
+use std::collections::btree_map::Entry;
+use std::collections::BTreeMap;
+
+use hocurve_mesh::{Element, HighOrderMesh, LinearMesh, MeshError, Shape};
+use hocurve_nodes::{determinant, ReferenceElement};
 
 /// ‖f − Π_p f‖_{L2(Ω)} where Π_p f = Σⱼ f(xⱼ) Φⱼ interpolates `f` at the mesh's nodes,
 /// integrated cell by cell with a quadrature of degree 2p + 6 (high enough that the
@@ -47,42 +50,26 @@ fn integrate_over_cells(
     degree: usize,
     mut visit: impl FnMut(usize, &[[f64; 3]], &[f64], [f64; 3], f64),
 ) -> Result<(), MeshError> {
-    let p = mesh.order;
-    let mut cache = std::collections::HashMap::new();
+    let mut tables = BTreeMap::new();
     for (index, cell) in mesh.cells.iter().enumerate() {
-        let shape = cell.kind.shape()?;
-        if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(shape) {
-            let nodes = ReferenceNodes::try_new(shape, p, mesh.family)?;
-            slot.insert((
-                LagrangeBasis::new(&nodes)?,
-                QuadratureRule::new(shape, degree),
-            ));
+        let shape = cell.kind;
+        if let Entry::Vacant(slot) = tables.entry(shape) {
+            slot.insert(
+                ReferenceElement::shared(shape, mesh.order, mesh.family)?.quadrature(degree),
+            );
         }
-        let (basis, rule) = &cache[&shape];
+        let table = &tables[&shape];
         let x: Vec<[f64; 3]> = cell.nodes.iter().map(|&n| mesh.nodes[n as usize]).collect();
-        let mut values = vec![0.0; basis.len()];
-        let mut grads = vec![[0.0; 3]; basis.len()];
-        for (xi, w) in rule.points.iter().zip(&rule.weights) {
-            basis.eval(*xi, &mut values);
-            basis.eval_grad(*xi, &mut grads);
+        for (q, w) in table.weights().iter().enumerate() {
+            let values = table.values(q);
             let mut point = [0.0; 3];
-            let mut jac = [[0.0; 3]; 3];
-            for j in 0..basis.len() {
+            for (phi, xj) in values.iter().zip(&x) {
                 for a in 0..3 {
-                    point[a] += values[j] * x[j][a];
-                    for b in 0..3 {
-                        jac[a][b] += x[j][a] * grads[j][b];
-                    }
+                    point[a] += phi * xj[a];
                 }
             }
-            let det = if mesh.dim == 2 {
-                jac[0][0] * jac[1][1] - jac[0][1] * jac[1][0]
-            } else {
-                jac[0][0] * (jac[1][1] * jac[2][2] - jac[1][2] * jac[2][1])
-                    - jac[0][1] * (jac[1][0] * jac[2][2] - jac[1][2] * jac[2][0])
-                    + jac[0][2] * (jac[1][0] * jac[2][1] - jac[1][1] * jac[2][0])
-            };
-            visit(index, &x, &values, point, w * det);
+            let det = determinant(&table.jacobian(&x, q), mesh.dim);
+            visit(index, &x, values, point, w * det);
         }
     }
     Ok(())
@@ -90,7 +77,7 @@ fn integrate_over_cells(
 
 /// The structured mesh of the unit square with `n × n` quadrilaterals, or `2n²` triangles
 /// (each square cut along its diagonal), counter-clockwise.
-pub fn unit_square_mesh(n: usize, kind: ElementType) -> LinearMesh {
+pub fn unit_square_mesh(n: usize, kind: Shape) -> LinearMesh {
     let id = |i: usize, j: usize| (i + (n + 1) * j) as u32;
     let mut vertices = Vec::with_capacity((n + 1) * (n + 1));
     for j in 0..=n {
@@ -109,11 +96,11 @@ pub fn unit_square_mesh(n: usize, kind: ElementType) -> LinearMesh {
                     entity: 1,
                 })
             };
-            if kind == ElementType::Quad {
-                push(ElementType::Quad, vec![a, b, c, d]);
+            if kind == Shape::Quad {
+                push(Shape::Quad, vec![a, b, c, d]);
             } else {
-                push(ElementType::Tri, vec![a, b, c]);
-                push(ElementType::Tri, vec![a, c, d]);
+                push(Shape::Tri, vec![a, b, c]);
+                push(Shape::Tri, vec![a, c, d]);
             }
         }
     }
@@ -137,7 +124,7 @@ mod tests {
 
     #[test]
     fn polynomials_of_degree_p_are_interpolated_exactly() {
-        for kind in [ElementType::Tri, ElementType::Quad] {
+        for kind in [Shape::Tri, Shape::Quad] {
             let mesh = unit_square_mesh(3, kind);
             for p in 1..=4 {
                 let ho = HighOrderMesh::from_linear(&mesh, p, NodeFamily::Fekete).unwrap();
@@ -154,7 +141,7 @@ mod tests {
     /// every horizontal line, so ‖x² − Π₁x²‖² = ∫₀ʰ x²(x − h)² dx / h = h⁴/30 exactly.
     #[test]
     fn linear_interpolation_error_of_x_squared_is_h4_over_30() {
-        let mesh = unit_square_mesh(4, ElementType::Tri);
+        let mesh = unit_square_mesh(4, Shape::Tri);
         let ho = HighOrderMesh::from_linear(&mesh, 2, NodeFamily::Equispaced).unwrap();
         let p1 = HighOrderMesh::from_linear(&mesh, 1, NodeFamily::Equispaced).unwrap();
         let h = 0.25f64;

@@ -246,7 +246,7 @@ pub fn curve_and_write(
     let uncheckable: std::collections::BTreeSet<&str> = linear
         .cells
         .iter()
-        .filter_map(|c| c.kind.shape().ok())
+        .map(|c| c.kind)
         .filter(|&s| !hocurve_quality::bezier_check_supported(s, order))
         .map(|s| s.name())
         .collect();

@@ -12,7 +12,7 @@
 //! use std::collections::BTreeMap;
 //! use std::f64::consts::{PI, TAU};
 //! use hocurve::geodesic::AssociationRule;
-//! use hocurve::mesh::{Element, ElementType, LinearMesh, PhysicalGroup};
+//! use hocurve::mesh::{Element, Shape, LinearMesh, PhysicalGroup};
 //! use hocurve::pipeline::{curve_mesh, CurveOptions, Geometry};
 //! // A regular octagon of eight triangles about its centre, its sides in the group "circle".
 //! let ring = |k: usize| 1 + (k % 8) as u32;
@@ -22,8 +22,8 @@
 //! let octagon = LinearMesh {
 //!     dim: 2,
 //!     vertices,
-//!     cells: (0..8).map(|k| element(ElementType::Tri, vec![0, ring(k), ring(k + 1)])).collect(),
-//!     facets: (0..8).map(|k| element(ElementType::Line, vec![ring(k), ring(k + 1)])).collect(),
+//!     cells: (0..8).map(|k| element(Shape::Tri, vec![0, ring(k), ring(k + 1)])).collect(),
+//!     facets: (0..8).map(|k| element(Shape::Line, vec![ring(k), ring(k + 1)])).collect(),
 //!     physical_groups: vec![PhysicalGroup { dim: 1, tag: 1, name: "circle".into() }],
 //!     entity_physicals: BTreeMap::from([((1, 1), vec![1])]),
 //!     ..Default::default()

@@ -16,7 +16,7 @@ pub(crate) fn quadrilateral_corners_on_one_entity(
     let facet_entity = facet_entities(linear, association);
     let mut out = Vec::new();
     for (c, cell) in linear.cells.iter().enumerate() {
-        if cell.kind != hocurve_mesh::ElementType::Quad || cell.vertices.len() != 4 {
+        if cell.kind != hocurve_mesh::Shape::Quad || cell.vertices.len() != 4 {
             continue;
         }
         let v = &cell.vertices;
@@ -64,8 +64,8 @@ pub(crate) fn cells_with_doubly_curved_edges(
     let mut out = Vec::new();
     for (c, cell) in linear.cells.iter().enumerate() {
         let shape = match cell.kind {
-            hocurve_mesh::ElementType::Hex => hocurve_nodes::Shape::Hex,
-            hocurve_mesh::ElementType::Prism => hocurve_nodes::Shape::Prism,
+            hocurve_mesh::Shape::Hex => hocurve_nodes::Shape::Hex,
+            hocurve_mesh::Shape::Prism => hocurve_nodes::Shape::Prism,
             _ => continue,
         };
         let faces: Vec<(Vec<u32>, Option<usize>)> = shape
@@ -108,7 +108,7 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
     for cell in &linear.cells {
         if !matches!(
             cell.kind,
-            hocurve_mesh::ElementType::Tri | hocurve_mesh::ElementType::Tet
+            hocurve_mesh::Shape::Tri | hocurve_mesh::Shape::Tet
         ) {
             continue;
         }
@@ -145,12 +145,12 @@ mod tests {
     use super::*;
     use std::collections::BTreeMap;
 
-    use hocurve_mesh::{Element, ElementType};
+    use hocurve_mesh::{Element, Shape};
 
     /// One tetrahedron 0 1 2 3 with the facets 0 1 2 and 0 1 3 declared.
     fn tet_with_two_facets() -> LinearMesh {
         let facet = |v: [u32; 3]| Element {
-            kind: ElementType::Tri,
+            kind: Shape::Tri,
             vertices: v.to_vec(),
             entity: 1,
         };
@@ -189,7 +189,7 @@ mod tests {
         // boundary vertex off the geometry).
         let mut with_third = mesh.clone();
         with_third.facets.push(Element {
-            kind: ElementType::Tri,
+            kind: Shape::Tri,
             vertices: vec![1, 2, 3],
             entity: 2,
         });

@@ -6,7 +6,7 @@
 
 use std::collections::BTreeSet;
 
-use hocurve_mesh::{ElementType, HighOrderMesh};
+use hocurve_mesh::{HighOrderMesh, Shape};
 use hocurve_quality::{MeshQuality, Validity};
 use hocurve_untangle::{untangle, UntangleOptions};
 
@@ -47,9 +47,9 @@ pub fn jacobian_stiffening(straight: &HighOrderMesh) -> Vec<f64> {
     let corner = |cell: &hocurve_mesh::HighOrderElement| -> f64 {
         // The vertices joined to vertex 0 by an edge, in Gmsh's vertex order.
         let neighbours: &[usize] = match cell.kind {
-            ElementType::Quad => &[1, 3],
-            ElementType::Hex => &[1, 3, 4],
-            ElementType::Tri => &[1, 2],
+            Shape::Quad => &[1, 3],
+            Shape::Hex => &[1, 3, 4],
+            Shape::Tri => &[1, 2],
             _ => &[1, 2, 3],
         };
         let x = |k: usize| straight.nodes[cell.nodes[k] as usize];

@@ -12,7 +12,7 @@ use hocurve::elastic::{
 };
 use hocurve::geodesic::AssociationRule;
 use hocurve::interpolation::{domain_measure, unit_square_mesh};
-use hocurve::mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
+use hocurve::mesh::{Element, HighOrderMesh, LinearMesh, PhysicalGroup, Shape};
 use hocurve::nodes::NodeFamily;
 use hocurve::nurbs::{parse_geometry_json, GeometryModel};
 use hocurve::pipeline::{curve_mesh, CurveError, CurveOptions, CurvedMesh, Geometry};
@@ -187,7 +187,7 @@ fn a_geometry_that_does_not_match_the_mesh_is_an_error() {
 
 #[test]
 fn a_mesh_with_no_dirichlet_boundary_is_an_error() {
-    let linear = unit_square_mesh(2, ElementType::Tri);
+    let linear = unit_square_mesh(2, Shape::Tri);
     let mesh = HighOrderMesh::from_linear(&linear, 2, NodeFamily::Fekete).unwrap();
     let err = solve_displacement(
         &mesh,
@@ -227,7 +227,7 @@ fn graded_quarter_annulus(n_around: usize, radii: &[f64]) -> LinearMesh {
             let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
             for v in [vec![a, b, c], vec![a, c, d]] {
                 cells.push(Element {
-                    kind: ElementType::Tri,
+                    kind: Shape::Tri,
                     vertices: v,
                     entity: 1,
                 });
@@ -237,7 +237,7 @@ fn graded_quarter_annulus(n_around: usize, radii: &[f64]) -> LinearMesh {
     let mut facets = Vec::new();
     let mut edge = |a, b, entity| {
         facets.push(Element {
-            kind: ElementType::Line,
+            kind: Shape::Line,
             vertices: vec![a, b],
             entity,
         })
@@ -521,12 +521,12 @@ fn a_prism_with_two_faces_on_one_curved_entity_is_named_as_the_cause() {
         }
     }
     let quad = |a: u32, b: u32| Element {
-        kind: ElementType::Quad,
+        kind: Shape::Quad,
         vertices: vec![a, b, b + 3, a + 3],
         entity: 1,
     };
     let tri = |v: Vec<u32>| Element {
-        kind: ElementType::Tri,
+        kind: Shape::Tri,
         vertices: v,
         entity: 2,
     };
@@ -534,7 +534,7 @@ fn a_prism_with_two_faces_on_one_curved_entity_is_named_as_the_cause() {
         dim: 3,
         vertices,
         cells: vec![Element {
-            kind: ElementType::Prism,
+            kind: Shape::Prism,
             vertices: vec![0, 1, 2, 3, 4, 5],
             entity: 1,
         }],
@@ -644,12 +644,12 @@ fn sliver_cap() -> LinearMesh {
         vertices,
         // Both positively oriented (checked by the curving, which rejects inverted input).
         cells: vec![
-            element(ElementType::Tet, &[4, 0, 1, 2]),
-            element(ElementType::Tet, &[4, 0, 3, 1]),
+            element(Shape::Tet, &[4, 0, 1, 2]),
+            element(Shape::Tet, &[4, 0, 3, 1]),
         ],
         facets: vec![
-            element(ElementType::Tri, &[0, 1, 2]),
-            element(ElementType::Tri, &[0, 3, 1]),
+            element(Shape::Tri, &[0, 1, 2]),
+            element(Shape::Tri, &[0, 3, 1]),
         ],
         physical_groups: vec![PhysicalGroup {
             dim: 2,

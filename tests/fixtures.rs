@@ -32,7 +32,7 @@ fn node_count_formula_holds_on_every_fixture_for_p_1_to_6() {
         let mut tri_faces = std::collections::HashSet::new();
         let mut quad_faces = std::collections::HashSet::new();
         for cell in &mesh.cells {
-            let shape = cell.kind.shape().unwrap();
+            let shape = cell.kind;
             for &[a, b] in shape.edges() {
                 let (x, y) = (cell.vertices[a], cell.vertices[b]);
                 edges.insert((x.min(y), x.max(y)));
@@ -54,7 +54,7 @@ fn node_count_formula_holds_on_every_fixture_for_p_1_to_6() {
             let cells: usize = mesh
                 .cells
                 .iter()
-                .map(|c| match c.kind.shape().unwrap() {
+                .map(|c| match c.kind {
                     Shape::Tri => tri_interior,
                     Shape::Quad => q * q,
                     Shape::Tet => q * q.saturating_sub(1) * q.saturating_sub(2) / 6,
@@ -72,7 +72,7 @@ fn node_count_formula_holds_on_every_fixture_for_p_1_to_6() {
             // Every cell and facet references existing nodes; every node is used.
             let mut used = vec![false; ho.nodes.len()];
             for e in ho.cells.iter().chain(&ho.facets) {
-                assert_eq!(e.nodes.len(), e.kind.shape().unwrap().num_nodes(p));
+                assert_eq!(e.nodes.len(), e.kind.num_nodes(p));
                 for &n in &e.nodes {
                     used[n as usize] = true;
                 }

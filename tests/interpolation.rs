@@ -2,13 +2,13 @@
 //! mesh of the unit square converges exponentially in p.
 
 use hocurve::interpolation::{interpolation_l2_error, paper_test_function, unit_square_mesh};
-use hocurve::mesh::{ElementType, HighOrderMesh};
+use hocurve::mesh::{HighOrderMesh, Shape};
 use hocurve::nodes::NodeFamily;
 
 #[test]
 fn interpolation_error_falls_exponentially_with_p() {
     // 5 × 5 squares: 50 triangles or 25 quads; 7 × 7 = 49 quads.
-    for (kind, n) in [(ElementType::Tri, 5), (ElementType::Quad, 7)] {
+    for (kind, n) in [(Shape::Tri, 5), (Shape::Quad, 7)] {
         let mesh = unit_square_mesh(n, kind);
         let mut errors = Vec::new();
         for p in 1..=7 {

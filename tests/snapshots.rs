@@ -165,7 +165,7 @@ fn measure(mesh: &HighOrderMesh) -> f64 {
     let mut samplers = std::collections::BTreeMap::new();
     let mut total = 0.0;
     for cell in &mesh.cells {
-        let shape = cell.kind.shape().expect("cell shape");
+        let shape = cell.kind;
         let (sampler, weights) = samplers.entry(shape).or_insert_with(|| {
             let rule = QuadratureRule::new(shape, shape.dim() * mesh.order);
             let sampler = JacobianSampler::at_points(shape, mesh.order, mesh.family, &rule.points)
@@ -250,7 +250,7 @@ fn vtu_text(curved: &CurvedMesh) -> String {
     s.push_str("        <DataArray type=\"Int64\" Name=\"connectivity\" format=\"ascii\">\n");
     let mut types = Vec::with_capacity(mesh.cells.len());
     for cell in &mesh.cells {
-        let shape = cell.kind.shape().expect("cell shape");
+        let shape = cell.kind;
         types.push(vtk_cell_type(shape, p));
         let ids: Vec<String> = vtk_permutation(shape, p)
             .into_iter()

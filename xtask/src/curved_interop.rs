@@ -144,10 +144,7 @@ fn write_curved(
 fn determinants_json(mesh: &HighOrderMesh) -> Result<String> {
     let mut by_shape = std::collections::BTreeMap::new();
     for (i, cell) in mesh.cells.iter().enumerate() {
-        by_shape
-            .entry(cell.kind.shape()?)
-            .or_insert_with(Vec::new)
-            .push(i);
+        by_shape.entry(cell.kind).or_insert_with(Vec::new).push(i);
     }
     let mut s = String::from("{\"groups\": [\n");
     for (g, (shape, cells)) in by_shape.iter().enumerate() {

@@ -228,7 +228,7 @@ fn verify_steps(
 /// The test `tests/interpolation.rs` asserts the exponential decay; this prints the table.
 fn interpolation_table() -> Result<()> {
     use hocurve::interpolation::{interpolation_l2_error, paper_test_function, unit_square_mesh};
-    use hocurve::mesh::{ElementType, HighOrderMesh};
+    use hocurve::mesh::{HighOrderMesh, Shape};
     use hocurve::nodes::NodeFamily;
     eprintln!("==> interpolation error (paper Fig. 12b), Fekete nodes");
     println!(
@@ -236,8 +236,8 @@ fn interpolation_table() -> Result<()> {
         "mesh", "p", "sqrt(ndof)", "L2 error"
     );
     for (kind, n, label) in [
-        (ElementType::Tri, 5, "50 triangles"),
-        (ElementType::Quad, 7, "49 quads"),
+        (Shape::Tri, 5, "50 triangles"),
+        (Shape::Quad, 7, "49 quads"),
     ] {
         let mesh = unit_square_mesh(n, kind);
         for p in 1..=7 {
@@ -413,7 +413,7 @@ fn linear_measure(path: &Path) -> Result<f64> {
     let mut total = 0.0;
     let mut cache = std::collections::HashMap::new();
     for cell in &mesh.cells {
-        let shape = cell.kind.shape()?;
+        let shape = cell.kind;
         if let std::collections::hash_map::Entry::Vacant(slot) = cache.entry(shape) {
             let basis =
                 LagrangeBasis::new(&ReferenceNodes::try_new(shape, 1, NodeFamily::Equispaced)?)?;

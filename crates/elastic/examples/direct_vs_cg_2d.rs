@@ -6,7 +6,7 @@
 use hocurve_elastic::{
     boundary_nodes, solve_displacement, BoundaryConditions, Material, SolverKind, SolverOptions,
 };
-use hocurve_mesh::ElementType;
+use hocurve_mesh::Shape;
 use hocurve_nodes::NodeFamily;
 use hocurve_testmeshes::{high_order, unit_square};
 
@@ -16,11 +16,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         "n", "p", "dofs", "direct", "cg", "iters"
     );
     for (n, p) in [(20, 2), (40, 3), (60, 4), (100, 4), (140, 4)] {
-        let mesh = high_order(
-            &unit_square(n, ElementType::Tri, 0.1),
-            p,
-            NodeFamily::Fekete,
-        );
+        let mesh = high_order(&unit_square(n, Shape::Tri, 0.1), p, NodeFamily::Fekete);
         let mut bc = BoundaryConditions::default();
         for node in boundary_nodes(&mesh)? {
             let x = mesh.nodes[node as usize];

@@ -10,10 +10,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use hocurve_mesh::{HighOrderMesh, MeshError};
 use rayon::prelude::*;
 
-use crate::element_matrix::{
-    element_stiffness, invert_jacobian, isoparametric_jacobian, ElementScratch,
-};
-use crate::reference_element::ReferenceElement;
+use crate::element_matrix::{element_stiffness, invert_jacobian, ElementScratch};
+use crate::reference_element::ReferenceStiffness;
 use crate::sparsity::{colour_cells, node_cells, node_graph, Adjacency};
 use crate::{ElasticError, Material};
 
@@ -71,7 +69,7 @@ pub(crate) fn assemble_with_progress(
     if let Some(scale) = stiffening {
         check_stiffening(mesh, scale)?;
     }
-    let references = ReferenceElement::for_mesh(mesh)?;
+    let references = ReferenceStiffness::for_mesh(mesh)?;
     let dim = mesh.dim;
     let (lambda, mu) = material.lame();
     let cells_of_node = node_cells(mesh);
@@ -110,7 +108,7 @@ pub(crate) fn assemble_with_progress(
             .try_for_each_init(ElementScratch::default, |scratch, &c| {
                 let c = c as usize;
                 let cell = &mesh.cells[c];
-                let reference = &references[&cell.kind.shape()?];
+                let reference = &references[&cell.kind];
                 scratch.coords.clear();
                 scratch
                     .coords
@@ -174,22 +172,22 @@ pub fn assemble_load(
     body_force: &BodyForce<'_>,
 ) -> Result<Vec<f64>, ElasticError> {
     check_dim(mesh)?;
-    let references = ReferenceElement::for_mesh(mesh)?;
+    let references = ReferenceStiffness::for_mesh(mesh)?;
     let dim = mesh.dim;
     // Element vectors in parallel, summed in cell order: reproducible.
     let element_loads: Vec<Vec<f64>> = (0..mesh.cells.len())
         .into_par_iter()
         .map(|c| {
             let cell = &mesh.cells[c];
-            let reference = &references[&cell.kind.shape()?];
+            let reference = &references[&cell.kind];
             let n = reference.len;
             let coords: Vec<[f64; 3]> =
                 cell.nodes.iter().map(|&i| mesh.nodes[i as usize]).collect();
             let rule = &reference.load_rule;
             let mut load = vec![0.0; n * dim];
             for q in 0..rule.len() {
-                let values = &rule.values[q * n..(q + 1) * n];
-                let jac = isoparametric_jacobian(&coords, &rule.gradients[q * n..(q + 1) * n], dim);
+                let values = rule.values(q);
+                let jac = rule.jacobian(&coords, q);
                 let det = invert_jacobian(&jac, dim).1;
                 if !det.is_finite() || det == 0.0 {
                     return Err(ElasticError::DegenerateCell {
@@ -207,7 +205,7 @@ pub fn assemble_load(
                 if f.iter().any(|v| !v.is_finite()) {
                     return Err(ElasticError::NonFiniteLoad { cell: c });
                 }
-                let w = rule.weights[q] * det.abs();
+                let w = rule.weights()[q] * det.abs();
                 for (a, phi) in values.iter().enumerate() {
                     for d in 0..dim {
                         load[a * dim + d] += w * phi * f[d];

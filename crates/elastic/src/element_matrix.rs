@@ -10,7 +10,7 @@
 //! G_cd = |det J| Σ_αβ J⁻¹_αc J⁻¹_βd S_αβ with the precomputed reference matrices S_αβ:
 //! no quadrature per element. Other cells integrate G_cd with the degree-2p rule.
 
-use crate::reference_element::ReferenceElement;
+use crate::reference_element::ReferenceStiffness;
 use crate::ElasticError;
 
 /// Reusable buffers for one thread.
@@ -53,23 +53,6 @@ pub(crate) fn invert_jacobian(jac: &[[f64; 3]; 3], dim: usize) -> ([[f64; 3]; 3]
     (inv, det)
 }
 
-/// The Jacobian of the isoparametric map at one point from reference gradients.
-pub(crate) fn isoparametric_jacobian(
-    coords: &[[f64; 3]],
-    ref_grads: &[[f64; 3]],
-    dim: usize,
-) -> [[f64; 3]; 3] {
-    let mut jac = [[0.0; 3]; 3];
-    for (x, g) in coords.iter().zip(ref_grads) {
-        for c in 0..dim {
-            for alpha in 0..dim {
-                jac[c][alpha] += x[c] * g[alpha];
-            }
-        }
-    }
-    jac
-}
-
 fn checked_det(det: f64, cell: usize) -> Result<f64, ElasticError> {
     // Relative to nothing: a determinant that is exactly 0 or not finite cannot be used;
     // tiny but non-zero ones are the caller's geometry and are kept.
@@ -86,7 +69,7 @@ fn checked_det(det: f64, cell: usize) -> Result<f64, ElasticError> {
 /// Computes the stiffness matrix of `cell` (coordinates in `scratch.coords`) into
 /// `scratch.matrix`.
 pub(crate) fn element_stiffness(
-    reference: &ReferenceElement,
+    reference: &ReferenceStiffness,
     lambda: f64,
     mu: f64,
     cell: usize,
@@ -127,10 +110,10 @@ pub(crate) fn element_stiffness(
         _ => {
             let rule = &reference.stiffness_rule;
             for q in 0..rule.len() {
-                let ref_grads = &rule.gradients[q * n..(q + 1) * n];
-                let jac = isoparametric_jacobian(coords, ref_grads, dim);
+                let ref_grads = rule.gradients(q);
+                let jac = rule.jacobian(coords, q);
                 let (inv, det) = invert_jacobian(&jac, dim);
-                let weight = rule.weights[q] * checked_det(det, cell)?;
+                let weight = rule.weights()[q] * checked_det(det, cell)?;
                 for (phys, g) in scratch.grads.iter_mut().zip(ref_grads) {
                     for c in 0..dim {
                         phys[c] = (0..dim).map(|alpha| g[alpha] * inv[alpha][c]).sum();

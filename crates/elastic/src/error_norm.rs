@@ -3,8 +3,8 @@
 use hocurve_mesh::HighOrderMesh;
 use rayon::prelude::*;
 
-use crate::element_matrix::{invert_jacobian, isoparametric_jacobian};
-use crate::reference_element::ReferenceElement;
+use crate::element_matrix::invert_jacobian;
+use crate::reference_element::ReferenceStiffness;
 use crate::ElasticError;
 
 /// ‖u_h − u‖_{L2(Ω)} = (∫ |u_h − u|² dx)^½ where u_h = Σ Φⱼ uⱼ is the finite element field
@@ -15,7 +15,7 @@ pub fn displacement_l2_error(
     displacement: &[[f64; 3]],
     exact: impl Fn([f64; 3]) -> [f64; 3] + Sync,
 ) -> Result<f64, ElasticError> {
-    let references = ReferenceElement::for_mesh(mesh)?;
+    let references = ReferenceStiffness::for_mesh(mesh)?;
     if displacement.len() != mesh.nodes.len() {
         return Err(ElasticError::NodeOutOfRange {
             node: displacement.len() as u32,
@@ -27,15 +27,13 @@ pub fn displacement_l2_error(
         .into_par_iter()
         .map(|c| {
             let cell = &mesh.cells[c];
-            let reference = &references[&cell.kind.shape()?];
-            let n = reference.len;
-            let rule = &reference.load_rule;
+            let rule = &references[&cell.kind].load_rule;
             let coords: Vec<[f64; 3]> =
                 cell.nodes.iter().map(|&i| mesh.nodes[i as usize]).collect();
             let mut total = 0.0;
             for q in 0..rule.len() {
-                let values = &rule.values[q * n..(q + 1) * n];
-                let jac = isoparametric_jacobian(&coords, &rule.gradients[q * n..(q + 1) * n], dim);
+                let values = rule.values(q);
+                let jac = rule.jacobian(&coords, q);
                 let det = invert_jacobian(&jac, dim).1.abs();
                 let (mut x, mut uh) = ([0.0; 3], [0.0; 3]);
                 for ((phi, xa), &node) in values.iter().zip(&coords).zip(&cell.nodes) {
@@ -46,7 +44,7 @@ pub fn displacement_l2_error(
                 }
                 let u = exact(x);
                 let e2: f64 = (0..dim).map(|d| (uh[d] - u[d]).powi(2)).sum();
-                total += rule.weights[q] * det * e2;
+                total += rule.weights()[q] * det * e2;
             }
             Ok(total)
         })

@@ -15,15 +15,15 @@
 //! ```
 //! use std::collections::BTreeMap;
 //! use hocurve_elastic::{solve_displacement, BoundaryConditions, Material, SolverOptions};
-//! use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+//! use hocurve_mesh::{Element, Shape, HighOrderMesh, LinearMesh};
 //! use hocurve_nodes::NodeFamily;
 //! // The unit square as two triangles; stretch it by 1 % in x.
 //! let square = LinearMesh {
 //!     dim: 2,
 //!     vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
 //!     cells: vec![
-//!         Element { kind: ElementType::Tri, vertices: vec![0, 1, 2], entity: 1 },
-//!         Element { kind: ElementType::Tri, vertices: vec![0, 2, 3], entity: 1 },
+//!         Element { kind: Shape::Tri, vertices: vec![0, 1, 2], entity: 1 },
+//!         Element { kind: Shape::Tri, vertices: vec![0, 2, 3], entity: 1 },
 //!     ],
 //!     ..Default::default()
 //! };

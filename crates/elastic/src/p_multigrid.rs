@@ -26,7 +26,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use hocurve_mesh::HighOrderMesh;
-use hocurve_nodes::{LagrangeBasis, ReferenceNodes, Shape};
+use hocurve_nodes::{ReferenceElement, Shape};
 use rayon::prelude::*;
 
 use crate::assembly::assemble_with_progress;
@@ -292,14 +292,16 @@ fn prolongation(fine: &LevelMesh, coarse: &LevelMesh) -> Result<StiffnessMatrix,
     // Per shape: the order-q basis at each order-p reference node, nonzero weights only.
     let mut weights: BTreeMap<Shape, Vec<Vec<(usize, f64)>>> = BTreeMap::new();
     for cell in &fm.cells {
-        let shape = cell.kind.shape()?;
+        let shape = cell.kind;
         if weights.contains_key(&shape) {
             continue;
         }
-        let fine_nodes = ReferenceNodes::try_new(shape, fm.order, fm.family)?;
-        let basis = LagrangeBasis::new(&ReferenceNodes::try_new(shape, cm.order, cm.family)?)?;
+        let fine = ReferenceElement::shared(shape, fm.order, fm.family)?;
+        let coarse = ReferenceElement::shared(shape, cm.order, cm.family)?;
+        let basis = coarse.basis();
         let mut values = vec![0.0; basis.len()];
-        let table = fine_nodes
+        let table = fine
+            .nodes()
             .points()
             .iter()
             .map(|&xi| {
@@ -321,7 +323,7 @@ fn prolongation(fine: &LevelMesh, coarse: &LevelMesh) -> Result<StiffnessMatrix,
             let mut entries: Vec<(usize, f64)> = Vec::new();
             if let Some(&c) = fine.cells_of_node.row(n).first() {
                 let (fine_cell, coarse_cell) = (&fm.cells[c as usize], &cm.cells[c as usize]);
-                let table = fine_cell.kind.shape().ok().and_then(|s| weights.get(&s));
+                let table = weights.get(&fine_cell.kind);
                 let local = fine_cell.nodes.iter().position(|&x| x as usize == n);
                 if let (Some(table), Some(local)) = (table, local) {
                     entries.extend(

@@ -1,50 +1,19 @@
-//! Everything about one reference element that assembly needs, computed once per
-//! (shape, order, family): nodes, vertex shape functions at the nodes, the reference
-//! stiffness matrices of simplices and the basis at the quadrature points.
+//! What assembly needs of one reference element beyond the shared
+//! [`hocurve_nodes::ReferenceElement`] (whose tabulated quadrature it holds): vertex shape
+//! functions at the nodes and the reference stiffness matrices of simplices.
 
 use std::collections::BTreeMap;
 
 use hocurve_mesh::HighOrderMesh;
-use hocurve_nodes::{LagrangeBasis, NodeFamily, QuadratureRule, ReferenceNodes, Shape};
+use std::sync::Arc;
+
+use hocurve_nodes::{NodeFamily, ReferenceElement, Shape, TabulatedBasis};
 
 use crate::ElasticError;
 
-/// Values and reference gradients of the Lagrange basis at the points of a quadrature rule.
+/// The stiffness data of one shape at the mesh's order and node family.
 #[derive(Debug, Clone)]
-pub(crate) struct TabulatedRule {
-    /// Quadrature weights wq.
-    pub weights: Vec<f64>,
-    /// Φᵢ(ξq), row-major `[q * n + i]`.
-    pub values: Vec<f64>,
-    /// ∇_ξ Φᵢ(ξq), `[q * n + i]`.
-    pub gradients: Vec<[f64; 3]>,
-}
-
-impl TabulatedRule {
-    fn new(basis: &LagrangeBasis, rule: &QuadratureRule) -> Self {
-        let n = basis.len();
-        let mut values = vec![0.0; rule.len() * n];
-        let mut gradients = vec![[0.0; 3]; rule.len() * n];
-        for (q, xi) in rule.points.iter().enumerate() {
-            basis.eval(*xi, &mut values[q * n..(q + 1) * n]);
-            basis.eval_grad(*xi, &mut gradients[q * n..(q + 1) * n]);
-        }
-        TabulatedRule {
-            weights: rule.weights.clone(),
-            values,
-            gradients,
-        }
-    }
-
-    /// Number of points.
-    pub fn len(&self) -> usize {
-        self.weights.len()
-    }
-}
-
-/// A reference element of one shape at the mesh's order and node family.
-#[derive(Debug, Clone)]
-pub(crate) struct ReferenceElement {
+pub(crate) struct ReferenceStiffness {
     pub shape: Shape,
     /// Topological dimension (= mesh dimension).
     pub dim: usize,
@@ -57,15 +26,15 @@ pub(crate) struct ReferenceElement {
     /// `α * dim + β`, each n × n row-major.
     pub simplex_stiffness: Option<Vec<Vec<f64>>>,
     /// Degree-2p rule for the stiffness of non-affine cells.
-    pub stiffness_rule: TabulatedRule,
+    pub stiffness_rule: Arc<TabulatedBasis>,
     /// Degree-(2p + 2) rule for loads and error norms.
-    pub load_rule: TabulatedRule,
+    pub load_rule: Arc<TabulatedBasis>,
 }
 
-impl ReferenceElement {
+impl ReferenceStiffness {
     pub fn new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, ElasticError> {
-        let nodes = ReferenceNodes::try_new(shape, order, family)?;
-        let basis = LagrangeBasis::new(&nodes)?;
+        let element = ReferenceElement::shared(shape, order, family)?;
+        let nodes = element.nodes();
         let dim = shape.dim();
         let len = nodes.len();
         let vertex_weights = nodes
@@ -73,15 +42,15 @@ impl ReferenceElement {
             .iter()
             .map(|&xi| shape.vertex_shape_functions(xi).0)
             .collect();
-        let stiffness_rule = TabulatedRule::new(&basis, &QuadratureRule::new(shape, 2 * order));
-        let load_rule = TabulatedRule::new(&basis, &QuadratureRule::new(shape, 2 * order + 2));
+        let stiffness_rule = element.quadrature(2 * order);
+        let load_rule = element.quadrature(2 * order + 2);
         let simplex_stiffness = matches!(shape, Shape::Tri | Shape::Tet).then(|| {
             // ∂Φᵢ/∂ξ_α is of degree p − 1, so the degree-2p rule is exact.
             let rule = &stiffness_rule;
             let mut s = vec![vec![0.0; len * len]; dim * dim];
             for q in 0..rule.len() {
-                let w = rule.weights[q];
-                let g = &rule.gradients[q * len..(q + 1) * len];
+                let w = rule.weights()[q];
+                let g = rule.gradients(q);
                 for alpha in 0..dim {
                     for beta in 0..dim {
                         let m = &mut s[alpha * dim + beta];
@@ -96,7 +65,7 @@ impl ReferenceElement {
             }
             s
         });
-        Ok(ReferenceElement {
+        Ok(ReferenceStiffness {
             shape,
             dim,
             len,
@@ -112,7 +81,7 @@ impl ReferenceElement {
     pub fn for_mesh(mesh: &HighOrderMesh) -> Result<BTreeMap<Shape, Self>, ElasticError> {
         let mut out = BTreeMap::new();
         for (c, cell) in mesh.cells.iter().enumerate() {
-            let shape = cell.kind.shape()?;
+            let shape = cell.kind;
             if shape.dim() != mesh.dim {
                 return Err(ElasticError::WrongCellDimension {
                     cell: c,
@@ -121,7 +90,7 @@ impl ReferenceElement {
                 });
             }
             if let std::collections::btree_map::Entry::Vacant(slot) = out.entry(shape) {
-                slot.insert(ReferenceElement::new(shape, mesh.order, mesh.family)?);
+                slot.insert(ReferenceStiffness::new(shape, mesh.order, mesh.family)?);
             }
             let expected = shape.num_nodes(mesh.order);
             if cell.nodes.len() != expected {

@@ -5,7 +5,7 @@ use hocurve_elastic::{
     boundary_nodes, displacement_l2_error, solve_displacement_with_load, BoundaryConditions,
     Material, SolverKind, SolverOptions,
 };
-use hocurve_mesh::{ElementType, HighOrderMesh, LinearMesh};
+use hocurve_mesh::{HighOrderMesh, LinearMesh, Shape};
 use hocurve_nodes::NodeFamily;
 use hocurve_testmeshes::{high_order, unit_cube, unit_square, Fill, Kuhn};
 
@@ -89,7 +89,7 @@ fn check_polynomial(linear: &LinearMesh, name: &str) {
 
 #[test]
 fn quadratic_fields_are_exact_on_general_simplices() {
-    check_polynomial(&unit_square(3, ElementType::Tri, 0.2), "tri");
+    check_polynomial(&unit_square(3, Shape::Tri, 0.2), "tri");
     check_polynomial(&unit_cube(2, Fill::Tet(Kuhn::Paired), 0.2), "tet");
 }
 
@@ -97,7 +97,7 @@ fn quadratic_fields_are_exact_on_general_simplices() {
 fn quadratic_fields_are_exact_on_affine_tensor_cells() {
     // The mapped Q_p space of a non-parallelogram quad does not contain every quadratic,
     // so these meshes are undistorted.
-    check_polynomial(&unit_square(2, ElementType::Quad, 0.0), "quad");
+    check_polynomial(&unit_square(2, Shape::Quad, 0.0), "quad");
     check_polynomial(&unit_cube(2, Fill::HexPrism, 0.0), "hex+prism");
 }
 
@@ -133,11 +133,7 @@ fn smooth_solution_converges_at_rate_p_plus_one() {
         let errors: Vec<f64> = [4, 8, 16]
             .iter()
             .map(|&n| {
-                let mesh = high_order(
-                    &unit_square(n, ElementType::Tri, 0.0),
-                    p,
-                    NodeFamily::Fekete,
-                );
+                let mesh = high_order(&unit_square(n, Shape::Tri, 0.0), p, NodeFamily::Fekete);
                 let u = solve_with_exact_boundary(&mesh, &smooth, &force, &material);
                 displacement_l2_error(&mesh, &u, smooth).unwrap()
             })

@@ -4,7 +4,7 @@
 use hocurve_elastic::{
     boundary_nodes, solve_displacement, BoundaryConditions, Material, SolverKind, SolverOptions,
 };
-use hocurve_mesh::{ElementType, HighOrderMesh, LinearMesh};
+use hocurve_mesh::{HighOrderMesh, LinearMesh, Shape};
 use hocurve_nodes::NodeFamily;
 use hocurve_testmeshes::{high_order, unit_cube, unit_square, Fill, Kuhn};
 
@@ -54,17 +54,13 @@ fn check_patch(linear: &LinearMesh, name: &str, kind: SolverKind) {
 
 #[test]
 fn triangles_reproduce_linear_fields() {
-    check_patch(
-        &unit_square(3, ElementType::Tri, 0.2),
-        "tri",
-        SolverKind::Direct,
-    );
+    check_patch(&unit_square(3, Shape::Tri, 0.2), "tri", SolverKind::Direct);
 }
 
 #[test]
 fn quadrilaterals_reproduce_linear_fields() {
     check_patch(
-        &unit_square(3, ElementType::Quad, 0.2),
+        &unit_square(3, Shape::Quad, 0.2),
         "quad",
         SolverKind::Direct,
     );
@@ -128,10 +124,6 @@ fn boundary_nodes_of_a_structured_cube() {
         }
     }
     // 2D: a 3 × 3 square at p = 3 has 10 × 10 nodes, 8 × 8 inside.
-    let mesh = high_order(
-        &unit_square(3, ElementType::Quad, 0.0),
-        3,
-        NodeFamily::Fekete,
-    );
+    let mesh = high_order(&unit_square(3, Shape::Quad, 0.0), 3, NodeFamily::Fekete);
     assert_eq!(boundary_nodes(&mesh).unwrap().len(), 100 - 64);
 }

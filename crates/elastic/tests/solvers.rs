@@ -6,7 +6,7 @@ use hocurve_elastic::{
     solve_displacement_with_progress, BoundaryConditions, ElasticError, ElasticSolution, Material,
     SolveProgress, SolverKind, SolverOptions,
 };
-use hocurve_mesh::{ElementType, HighOrderMesh};
+use hocurve_mesh::{HighOrderMesh, Shape};
 use hocurve_nodes::NodeFamily;
 use hocurve_testmeshes::{high_order, unit_cube, unit_square, Fill, Kuhn};
 
@@ -301,11 +301,7 @@ fn stiffness_is_symmetric_and_annihilates_rigid_motions() {
 
 #[test]
 fn auto_picks_direct_for_small_problems() {
-    let mesh = high_order(
-        &unit_square(2, ElementType::Tri, 0.0),
-        2,
-        NodeFamily::Fekete,
-    );
+    let mesh = high_order(&unit_square(2, Shape::Tri, 0.0), 2, NodeFamily::Fekete);
     let mut bc = BoundaryConditions::default();
     for n in boundary_nodes(&mesh).unwrap() {
         bc.prescribed
@@ -325,11 +321,7 @@ fn auto_picks_direct_for_small_problems() {
 
 #[test]
 fn errors_are_reported() {
-    let mesh = high_order(
-        &unit_square(2, ElementType::Quad, 0.0),
-        2,
-        NodeFamily::Fekete,
-    );
+    let mesh = high_order(&unit_square(2, Shape::Quad, 0.0), 2, NodeFamily::Fekete);
     let options = SolverOptions::default();
     let free = BoundaryConditions::default();
     assert!(matches!(

@@ -146,7 +146,7 @@ impl<'a> Plan<'a> {
         ] {
             let mut shapes = Vec::with_capacity(elements.len());
             for (i, e) in elements.iter().enumerate() {
-                let shape = e.kind.shape().map_err(|err| format!("{what} {i}: {err}"))?;
+                let shape = e.kind;
                 if shape.dim() != dim {
                     return Err(format!(
                         "{what} {i} is a {}, expected dimension {dim}",

@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use hocurve_io::{read_msh, write_msh, write_vtu, write_vtu_with, DataArray, VtuEncoding};
-use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
+use hocurve_mesh::{Element, HighOrderMesh, LinearMesh, PhysicalGroup, Shape};
 use hocurve_nodes::NodeFamily;
 
 /// A general affine map x ↦ A x + b with det A > 0 (3D) or a 2D one (z kept 0).
@@ -48,7 +48,7 @@ fn det_affine(dim: usize) -> f64 {
     }
 }
 
-fn element(kind: ElementType, vertices: &[u32], entity: i32) -> Element {
+fn element(kind: Shape, vertices: &[u32], entity: i32) -> Element {
     Element {
         kind,
         vertices: vertices.to_vec(),
@@ -62,7 +62,7 @@ fn with_boundary(mut mesh: LinearMesh) -> LinearMesh {
     let mut count: HashMap<Vec<u32>, usize> = HashMap::new();
     let mut local = Vec::new();
     for cell in &mesh.cells {
-        let shape = cell.kind.shape().unwrap();
+        let shape = cell.kind;
         let faces: Vec<Vec<usize>> = if mesh.dim == 3 {
             shape.faces().iter().map(|f| f.to_vec()).collect()
         } else {
@@ -100,9 +100,9 @@ fn with_boundary(mut mesh: LinearMesh) -> LinearMesh {
             .unwrap();
         let entity = 1 + 2 * axis as i32 + i32::from(d[axis] > 0.0);
         let kind = match verts.len() {
-            2 => ElementType::Line,
-            3 => ElementType::Tri,
-            _ => ElementType::Quad,
+            2 => Shape::Line,
+            3 => Shape::Tri,
+            _ => Shape::Quad,
         };
         mesh.facets.push(element(kind, &verts, entity));
     }
@@ -177,7 +177,7 @@ fn hexes() -> (LinearMesh, f64) {
                 id(x + 1, 1, 1),
                 id(x, 1, 1),
             ];
-            element(ElementType::Hex, &h, 1 + x as i32)
+            element(Shape::Hex, &h, 1 + x as i32)
         })
         .collect();
     (finish(3, v, cells), 2.0 * det_affine(3))
@@ -249,7 +249,7 @@ fn tets() -> (LinearMesh, f64) {
             let perm = even[cells.len()];
             let t: Vec<u32> = perm.iter().map(|&i| path[i]).collect();
             assert!(signed_volume(&v, &t) > 0.0);
-            cells.push(element(ElementType::Tet, &t, 1 + cube as i32));
+            cells.push(element(Shape::Tet, &t, 1 + cube as i32));
         }
     }
     (finish(3, v, cells), 2.0 * det_affine(3))
@@ -272,7 +272,7 @@ fn prisms() -> (LinearMesh, f64) {
             let bottom: Vec<u32> = tri.iter().map(|&(x, y)| id(x, y, z)).collect();
             let top: Vec<u32> = tri.iter().map(|&(x, y)| id(x, y, z + 1)).collect();
             let all: Vec<u32> = bottom.into_iter().chain(top).collect();
-            cells.push(element(ElementType::Prism, &all, 1));
+            cells.push(element(Shape::Prism, &all, 1));
         }
     }
     (finish(3, v, cells), det_affine(3))
@@ -297,11 +297,11 @@ fn hybrid() -> (LinearMesh, f64) {
         [5.0 / 3.0, 2.0 / 3.0, 1.5], // 13: apex above the second prism
     ];
     let cells = vec![
-        element(ElementType::Hex, &[0, 1, 2, 3, 4, 5, 6, 7], 1),
-        element(ElementType::Prism, &[1, 8, 2, 5, 10, 6], 2),
-        element(ElementType::Prism, &[8, 9, 2, 10, 11, 6], 2),
-        element(ElementType::Tet, &[5, 10, 6, 12], 3),
-        element(ElementType::Tet, &[10, 11, 6, 13], 3),
+        element(Shape::Hex, &[0, 1, 2, 3, 4, 5, 6, 7], 1),
+        element(Shape::Prism, &[1, 8, 2, 5, 10, 6], 2),
+        element(Shape::Prism, &[8, 9, 2, 10, 11, 6], 2),
+        element(Shape::Tet, &[5, 10, 6, 12], 3),
+        element(Shape::Tet, &[10, 11, 6, 13], 3),
     ];
     let volume = 1.0 + 1.0 + 2.0 * (0.5 * 0.5 / 3.0);
     (finish(3, v, cells), volume * det_affine(3))
@@ -328,7 +328,7 @@ fn triangles() -> (LinearMesh, f64) {
             for t in tris {
                 let r = cells.len() % 3;
                 let rotated = [t[r], t[(r + 1) % 3], t[(r + 2) % 3]];
-                cells.push(element(ElementType::Tri, &rotated, 1 + (x as i32 % 2)));
+                cells.push(element(Shape::Tri, &rotated, 1 + (x as i32 % 2)));
             }
         }
     }
@@ -344,10 +344,10 @@ fn quads_and_triangles() -> (LinearMesh, f64) {
         }
     }
     let cells = vec![
-        element(ElementType::Quad, &[0, 1, 5, 4], 1),
-        element(ElementType::Quad, &[3, 7, 6, 2], 1),
-        element(ElementType::Tri, &[1, 2, 6], 2),
-        element(ElementType::Tri, &[6, 5, 1], 2),
+        element(Shape::Quad, &[0, 1, 5, 4], 1),
+        element(Shape::Quad, &[3, 7, 6, 2], 1),
+        element(Shape::Tri, &[1, 2, 6], 2),
+        element(Shape::Tri, &[6, 5, 1], 2),
     ];
     (finish(2, v, cells), 3.0 * det_affine(2))
 }

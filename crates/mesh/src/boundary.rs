@@ -2,7 +2,7 @@
 
 use std::collections::BTreeMap;
 
-use hocurve_nodes::{NodeEntity, ReferenceNodes};
+use hocurve_nodes::{NodeEntity, ReferenceElement};
 
 use crate::{HighOrderMesh, MeshError, NO_CELL};
 
@@ -20,9 +20,9 @@ impl HighOrderMesh {
                 continue;
             }
             let cell = &self.cells[c as usize];
-            let shape = cell.kind.shape()?;
+            let shape = cell.kind;
             if let std::collections::btree_map::Entry::Vacant(slot) = references.entry(shape) {
-                slot.insert(ReferenceNodes::try_new(shape, self.order, self.family)?);
+                slot.insert(ReferenceElement::shared(shape, self.order, self.family)?);
             }
             let row = if self.dim == 2 {
                 topology.cell_edges.row(c as usize)
@@ -54,6 +54,7 @@ impl HighOrderMesh {
                 }
             };
             let nodes = references[&shape]
+                .nodes()
                 .entities()
                 .iter()
                 .zip(&cell.nodes)

@@ -7,18 +7,21 @@
 //! orientation; each cell then finds its local nodes in that frame through an exact
 //! integer map of lattice indices.
 
+use std::collections::btree_map::Entry;
 use std::collections::{BTreeMap, HashMap};
 
-use hocurve_nodes::{NodeEntity, NodeFamily, ReferenceNodes, Shape};
+use std::sync::Arc;
+
+use hocurve_nodes::{NodeEntity, NodeFamily, ReferenceElement, Shape};
 
 use crate::topology::face_key;
-use crate::{ElementType, LinearMesh, MeshError, PhysicalGroup, Topology};
+use crate::{LinearMesh, MeshError, PhysicalGroup, Topology};
 
 /// An element of a high-order mesh.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct HighOrderElement {
     /// Element type (its shape).
-    pub kind: ElementType,
+    pub kind: Shape,
     /// Global node ids in hocurve's canonical local order of the shape
     /// (see [`hocurve_nodes::ReferenceNodes`]).
     pub nodes: Vec<u32>,
@@ -112,7 +115,7 @@ impl HighOrderMesh {
         let mut cell_first_node = Vec::with_capacity(mesh.cells.len() + 1);
         for cell in &mesh.cells {
             cell_first_node.push(next as u32);
-            next += cell.kind.shape()?.num_interior_nodes(p);
+            next += cell.kind.num_interior_nodes(p);
         }
         cell_first_node.push(next as u32);
         if next > u32::MAX as usize {
@@ -148,12 +151,14 @@ impl HighOrderMesh {
                 nodes.push(straight_map(shape, &corners, *xi));
             }
         }
-        let mut references: HashMap<Shape, ReferenceNodes> = HashMap::new();
+        let mut references: BTreeMap<Shape, Arc<ReferenceElement>> = BTreeMap::new();
         for cell in &mesh.cells {
-            let shape = cell.kind.shape()?;
-            let reference = references
-                .entry(shape)
-                .or_insert_with(|| ReferenceNodes::new(shape, p, family));
+            let shape = cell.kind;
+            let reference = match references.entry(shape) {
+                Entry::Occupied(known) => known.into_mut(),
+                Entry::Vacant(slot) => slot.insert(ReferenceElement::shared(shape, p, family)?),
+            }
+            .nodes();
             let corners: Vec<[f64; 3]> = cell
                 .vertices
                 .iter()
@@ -171,8 +176,8 @@ impl HighOrderMesh {
         let mut faces = FaceFrames::new(p, family);
         let mut cells = Vec::with_capacity(mesh.cells.len());
         for (c, cell) in mesh.cells.iter().enumerate() {
-            let shape = cell.kind.shape()?;
-            let reference = &references[&shape];
+            let shape = cell.kind;
+            let reference = references[&shape].nodes();
             let cell_edges = topology.cell_edges.row(c);
             let cell_faces = topology.cell_faces.row(c);
             let v = &cell.vertices;
@@ -228,16 +233,18 @@ impl HighOrderMesh {
                     .map(|&v| mesh.vertex_tag(v as usize))
                     .collect(),
             };
-            let shape = facet.kind.shape()?;
+            let shape = facet.kind;
             let v = &facet.vertices;
             let facet_id = if mesh.dim == 2 {
                 *find_edge(v[0], v[1]).ok_or_else(not_found)?
             } else {
                 *face_index.get(&face_key(v)).ok_or_else(not_found)?
             };
-            let reference = references
-                .entry(shape)
-                .or_insert_with(|| ReferenceNodes::new(shape, p, family));
+            let reference = match references.entry(shape) {
+                Entry::Occupied(known) => known.into_mut(),
+                Entry::Vacant(slot) => slot.insert(ReferenceElement::shared(shape, p, family)?),
+            }
+            .nodes();
             let mut ids = Vec::with_capacity(reference.len());
             for entity in reference.entities() {
                 let id = match *entity {
@@ -286,7 +293,7 @@ impl HighOrderMesh {
     /// carried over: only the vertex positions are used.
     pub fn straight_of_order(&self, order: usize) -> Result<HighOrderMesh, MeshError> {
         let linear_element = |e: &HighOrderElement| -> Result<crate::Element, MeshError> {
-            let corners = e.kind.shape()?.num_vertices();
+            let corners = e.kind.num_vertices();
             Ok(crate::Element {
                 kind: e.kind,
                 vertices: e.nodes[..corners.min(e.nodes.len())].to_vec(),
@@ -329,7 +336,7 @@ impl HighOrderMesh {
         let cells: usize = self
             .cells
             .iter()
-            .map(|c| c.kind.shape().map_or(0, |s| s.num_interior_nodes(p)))
+            .map(|c| c.kind.num_interior_nodes(p))
             .sum();
         self.layout.num_vertices + self.layout.num_edges * (p - 1) + faces + cells
     }
@@ -342,42 +349,11 @@ impl HighOrderMesh {
     /// family-independent (lattice order), so only coordinates change; a node shared by
     /// several cells is evaluated once, from the first cell that has it.
     pub fn resampled(&self, family: NodeFamily) -> Result<HighOrderMesh, MeshError> {
-        family.check_order(self.order)?;
+        let coords: Vec<f64> = self.nodes.iter().flatten().copied().collect();
+        let moved = self.resampled_point_values(family, 3, &coords)?;
         let mut out = self.clone();
         out.family = family;
-        if family == self.family {
-            return Ok(out);
-        }
-        let mut done = vec![false; self.nodes.len()];
-        let mut matrices: HashMap<Shape, hocurve_nodes::LagrangeBasis> = HashMap::new();
-        let mut targets: HashMap<Shape, Vec<[f64; 3]>> = HashMap::new();
-        let mut values = Vec::new();
-        for cell in &self.cells {
-            let shape = cell.kind.shape()?;
-            if let std::collections::hash_map::Entry::Vacant(slot) = matrices.entry(shape) {
-                let from = ReferenceNodes::try_new(shape, self.order, self.family)?;
-                slot.insert(hocurve_nodes::LagrangeBasis::new(&from)?);
-                let to = ReferenceNodes::try_new(shape, self.order, family)?;
-                targets.insert(shape, to.points().to_vec());
-            }
-            let basis = &matrices[&shape];
-            values.resize(basis.len(), 0.0);
-            for (k, xi) in targets[&shape].iter().enumerate() {
-                let id = cell.nodes[k] as usize;
-                if done[id] {
-                    continue;
-                }
-                basis.eval(*xi, &mut values);
-                let mut x = [0.0; 3];
-                for (phi, &j) in values.iter().zip(&cell.nodes) {
-                    for d in 0..3 {
-                        x[d] += phi * self.nodes[j as usize][d];
-                    }
-                }
-                out.nodes[id] = x;
-                done[id] = true;
-            }
-        }
+        out.nodes = moved.chunks_exact(3).map(|x| [x[0], x[1], x[2]]).collect();
         Ok(out)
     }
 

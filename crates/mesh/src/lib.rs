@@ -6,15 +6,15 @@
 //! # Example
 //!
 //! ```
-//! use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+//! use hocurve_mesh::{Element, Shape, HighOrderMesh, LinearMesh};
 //! use hocurve_nodes::NodeFamily;
 //! // Two triangles forming the unit square.
 //! let mesh = LinearMesh {
 //!     dim: 2,
 //!     vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
 //!     cells: vec![
-//!         Element { kind: ElementType::Tri, vertices: vec![0, 1, 2], entity: 1 },
-//!         Element { kind: ElementType::Tri, vertices: vec![0, 2, 3], entity: 1 },
+//!         Element { kind: Shape::Tri, vertices: vec![0, 1, 2], entity: 1 },
+//!         Element { kind: Shape::Tri, vertices: vec![0, 2, 3], entity: 1 },
 //!     ],
 //!     ..Default::default()
 //! };
@@ -25,7 +25,7 @@
 //! ```
 
 mod boundary;
-mod element;
+
 mod from_cells;
 mod high_order;
 mod jagged;
@@ -34,8 +34,8 @@ mod resample;
 mod split;
 mod topology;
 
-pub use element::ElementType;
 pub use high_order::{HighOrderElement, HighOrderMesh, NodeLayout};
+pub use hocurve_nodes::Shape;
 pub use jagged::Jagged;
 pub use linear::{Element, LinearMesh, PhysicalGroup};
 pub use topology::{canonical_face, Topology, NO_CELL};
@@ -46,9 +46,6 @@ pub use topology::{canonical_face, Topology, NO_CELL};
 /// 1-based positions for meshes that have none).
 #[derive(Debug, thiserror::Error)]
 pub enum MeshError {
-    /// An element type hocurve cannot handle yet.
-    #[error("{0} elements are not supported (supported: triangle, quadrilateral, tetrahedron, hexahedron, prism)")]
-    UnsupportedElement(ElementType),
     /// Only 2D and 3D meshes are meshes hocurve can curve.
     #[error("mesh dimension {0} is not supported (expected 2 or 3)")]
     UnsupportedDimension(usize),
@@ -70,7 +67,7 @@ pub enum MeshError {
         /// Its tag in the file (Gmsh element tag).
         tag: u64,
         /// Its type.
-        kind: ElementType,
+        kind: Shape,
         /// Expected dimension.
         expected: usize,
     },
@@ -84,7 +81,7 @@ pub enum MeshError {
         /// Its tag in the file (Gmsh element tag).
         tag: u64,
         /// Its type.
-        kind: ElementType,
+        kind: Shape,
         /// Vertices given.
         found: usize,
     },
@@ -174,7 +171,7 @@ pub enum MeshError {
         /// Element index.
         index: usize,
         /// Its type.
-        kind: ElementType,
+        kind: Shape,
         /// Mesh order.
         order: usize,
         /// Nodes of the complete element.

@@ -2,13 +2,13 @@
 
 use std::collections::BTreeMap;
 
-use crate::{ElementType, MeshError};
+use crate::{MeshError, Shape};
 
 /// One element of a linear mesh: a cell or a boundary facet.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Element {
     /// Element type.
-    pub kind: ElementType,
+    pub kind: Shape,
     /// Vertex ids (0-based indices into [`LinearMesh::vertices`]), in Gmsh/VTK linear order.
     pub vertices: Vec<u32>,
     /// Tag of the geometric entity (Gmsh "elementary" tag) the element was meshed on.
@@ -177,7 +177,6 @@ impl LinearMesh {
                 }
             };
             for (i, e) in list.iter().enumerate() {
-                e.kind.shape()?;
                 if e.kind.dim() != dim {
                     return Err(MeshError::WrongDimension {
                         what,
@@ -239,7 +238,7 @@ impl LinearMesh {
     pub fn check_orientation(&self) -> Result<(), MeshError> {
         let mut reference_sign = 0.0;
         for (c, cell) in self.cells.iter().enumerate() {
-            let shape = cell.kind.shape()?;
+            let shape = cell.kind;
             let physical: Vec<[f64; 3]> = cell
                 .vertices
                 .iter()

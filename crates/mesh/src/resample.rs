@@ -1,8 +1,9 @@
 //! Nodal data carried along when a mesh is resampled to another node family.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
+use std::sync::Arc;
 
-use hocurve_nodes::{LagrangeBasis, NodeFamily, ReferenceNodes, Shape};
+use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
 
 use crate::{HighOrderMesh, MeshError};
 
@@ -36,17 +37,19 @@ impl HighOrderMesh {
             return Ok(out);
         }
         let mut done = vec![false; n];
-        let mut bases: HashMap<Shape, (LagrangeBasis, Vec<[f64; 3]>)> = HashMap::new();
+        let mut bases: BTreeMap<Shape, (Arc<ReferenceElement>, Arc<ReferenceElement>)> =
+            BTreeMap::new();
         let mut phi = Vec::new();
         let mut u = vec![0.0; components];
         for cell in &self.cells {
-            let shape = cell.kind.shape()?;
-            if let std::collections::hash_map::Entry::Vacant(slot) = bases.entry(shape) {
-                let from = ReferenceNodes::try_new(shape, self.order, self.family)?;
-                let to = ReferenceNodes::try_new(shape, self.order, family)?;
-                slot.insert((LagrangeBasis::new(&from)?, to.points().to_vec()));
+            let shape = cell.kind;
+            if let std::collections::btree_map::Entry::Vacant(slot) = bases.entry(shape) {
+                let from = ReferenceElement::shared(shape, self.order, self.family)?;
+                let to = ReferenceElement::shared(shape, self.order, family)?;
+                slot.insert((from, to));
             }
-            let (basis, targets) = &bases[&shape];
+            let (from, to) = &bases[&shape];
+            let (basis, targets) = (from.basis(), to.nodes().points());
             phi.resize(basis.len(), 0.0);
             for (k, xi) in targets.iter().enumerate() {
                 let Some(&id) = cell.nodes.get(k) else {

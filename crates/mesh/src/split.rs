@@ -7,7 +7,7 @@
 //! opens to 180°. Splitting the opposite edge at its midpoint gives two cells with one such
 //! face each, whose corner stays near the straight cell's.
 
-use crate::{Element, ElementType, LinearMesh};
+use crate::{Element, LinearMesh, Shape};
 
 impl LinearMesh {
     /// Splits each edge (a pair of vertex ids) at its midpoint: every triangle or
@@ -28,10 +28,7 @@ impl LinearMesh {
             let mut simplices_only = true;
             for e in holders {
                 any = true;
-                simplices_only &= matches!(
-                    e.kind,
-                    ElementType::Tri | ElementType::Tet | ElementType::Line
-                );
+                simplices_only &= matches!(e.kind, Shape::Tri | Shape::Tet | Shape::Line);
             }
             if a == b || !any || !simplices_only {
                 continue;
@@ -103,15 +100,15 @@ impl LinearMesh {
             let Some(e) = mesh.cells.get_mut(cell) else {
                 continue;
             };
-            if e.kind != ElementType::Quad || e.vertices.len() != 4 {
+            if e.kind != Shape::Quad || e.vertices.len() != 4 {
                 continue;
             }
             let v = |k: usize| e.vertices[(corner + k) % 4];
             let (first, second) = (vec![v(0), v(1), v(2)], vec![v(0), v(2), v(3)]);
-            e.kind = ElementType::Tri;
+            e.kind = Shape::Tri;
             e.vertices = first;
             added.push(Element {
-                kind: ElementType::Tri,
+                kind: Shape::Tri,
                 vertices: second,
                 entity: e.entity,
             });

@@ -82,7 +82,7 @@ impl Topology {
             }
         };
         for (c, cell) in mesh.cells.iter().enumerate() {
-            let shape = cell.kind.shape()?;
+            let shape = cell.kind;
             let v = &cell.vertices;
             let mut row = Vec::with_capacity(shape.edges().len());
             for &[a, b] in shape.edges() {

@@ -38,6 +38,7 @@ mod lagrange;
 mod nodal_sets;
 mod quadrature;
 mod reference;
+mod reference_element;
 mod warp_blend;
 
 pub use basis::{OrthonormalBasis, MAX_BASIS_ORDER};
@@ -49,6 +50,9 @@ pub use lagrange::LagrangeBasis;
 pub use nodal_sets::{NodeEntity, NodeFamily, ReferenceNodes};
 pub use quadrature::QuadratureRule;
 pub use reference::Shape;
+pub use reference_element::{
+    determinant, isoparametric_jacobian, ReferenceElement, TabulatedBasis,
+};
 
 /// Errors of this crate.
 #[derive(Debug, thiserror::Error, PartialEq, Eq)]

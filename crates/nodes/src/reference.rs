@@ -21,6 +21,12 @@ pub enum Shape {
     Prism,
 }
 
+impl std::fmt::Display for Shape {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 const LINE_VERTICES: [[f64; 3]; 2] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
 const TRI_VERTICES: [[f64; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
 const QUAD_VERTICES: [[f64; 3]; 4] = [
@@ -121,7 +127,7 @@ impl Shape {
         }
     }
 
-    /// Lower-case name, e.g. `"tet"`.
+    /// Lower-case name, e.g. `"tetrahedron"`; also what `Display` prints.
     pub fn name(self) -> &'static str {
         match self {
             Shape::Line => "line",

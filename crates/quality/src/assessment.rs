@@ -1,6 +1,6 @@
 //! Everything about a mesh's quality in one call: per-element values and their summary.
 
-use hocurve_mesh::{ElementType, HighOrderMesh};
+use hocurve_mesh::{HighOrderMesh, Shape};
 
 use crate::{
     check_validity, scaled_jacobian, stretching, BezierOptions, QualityError, QualitySummary,
@@ -37,7 +37,7 @@ pub fn assess(mesh: &HighOrderMesh, options: &QualityOptions) -> Result<MeshQual
         .bezier
         .map(|bezier| check_validity(mesh, &bezier))
         .transpose()?;
-    let kinds: Vec<ElementType> = mesh.cells.iter().map(|c| c.kind).collect();
+    let kinds: Vec<Shape> = mesh.cells.iter().map(|c| c.kind).collect();
     let summary = QualitySummary::new(&kinds, &scaled, &stretch, validity.as_deref());
     Ok(MeshQuality {
         scaled_jacobian: scaled,

@@ -14,7 +14,7 @@
 //!
 //! so a forward error bound is carried along and becomes the certification margin.
 
-use hocurve_nodes::{NodeFamily, ReferenceNodes, Shape};
+use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
 use nalgebra::DMatrix;
 
 use crate::QualityError;
@@ -62,7 +62,8 @@ impl TensorJacobian {
             Shape::Hex => 3,
             _ => return Ok(None),
         };
-        let nodes = ReferenceNodes::try_new(shape, order, family)?;
+        let element = ReferenceElement::shared(shape, order, family)?;
+        let nodes = element.nodes();
         let mut line: Vec<f64> = nodes.points().iter().map(|x| x[0]).collect();
         line.sort_by(f64::total_cmp);
         // The same 1D coordinate may differ in the last bit between nodes.

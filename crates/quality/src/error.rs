@@ -1,20 +1,11 @@
 //! Errors of the quality crate.
 
-use hocurve_mesh::ElementType;
-use hocurve_nodes::Shape;
+use hocurve_mesh::Shape;
 
 /// What can go wrong when measuring a mesh or writing its plots. Element indices are 0-based
 /// positions in [`hocurve_mesh::HighOrderMesh::cells`].
 #[derive(Debug, thiserror::Error)]
 pub enum QualityError {
-    /// An element type without a reference shape (pyramids, for now).
-    #[error("element {element} is a {kind}: its quality cannot be measured (supported: triangle, quadrilateral, tetrahedron, hexahedron, prism)")]
-    UnsupportedElement {
-        /// Element index.
-        element: usize,
-        /// Its type.
-        kind: ElementType,
-    },
     /// The element's shape does not have the mesh's dimension (e.g. a line among 2D cells).
     #[error("element {element} is a {}, not a {dim}D cell", .shape.name())]
     WrongDimension {

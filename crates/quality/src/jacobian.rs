@@ -3,14 +3,15 @@
 //!
 //! An order-p element with nodes xᵢ maps the reference element by x(ξ) = Σᵢ xᵢ Φᵢ(ξ), so its
 //! Jacobian is J(ξ) = Σᵢ xᵢ ⊗ ∇Φᵢ(ξ). The gradients ∇Φᵢ at the sample points depend only on
-//! (shape, order, node family); a [`JacobianSampler`] computes them once, after which each
-//! element costs one small matrix product (coordinates × gradients) and a determinant per
-//! point, with no allocation. In 2D the determinant is that of the 2×2 map of (x, y).
+//! (shape, order, node family): a [`JacobianSampler`] takes them from the shared
+//! [`ReferenceElement`], after which each element costs one small matrix product
+//! (coordinates × gradients) and a determinant per point, with no allocation. In 2D the determinant is that of the 2×2 map of (x, y).
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use hocurve_mesh::{HighOrderElement, HighOrderMesh};
-use hocurve_nodes::{LagrangeBasis, NodeFamily, QuadratureRule, ReferenceNodes, Shape};
+use hocurve_nodes::{NodeFamily, ReferenceElement, Shape, TabulatedBasis};
 use rayon::prelude::*;
 
 use crate::QualityError;
@@ -43,26 +44,21 @@ impl std::str::FromStr for Sampling {
     }
 }
 
-/// Gradients of the Lagrange basis of one (shape, order, family) at a fixed set of reference
-/// points, laid out so that the Jacobians of an element at all points are one axpy-friendly
-/// product.
+/// det J of elements of one (shape, order, family) at a fixed set of reference points: the
+/// shared [`ReferenceElement`]'s basis tabulated there, with the isoparametric map of
+/// [`TabulatedBasis::jacobian`].
 #[derive(Debug, Clone)]
 pub struct JacobianSampler {
     shape: Shape,
     order: usize,
     family: NodeFamily,
-    points: Vec<[f64; 3]>,
-    num_nodes: usize,
-    /// `gradients[i · dim·Q + q · dim + k] = ∂Φᵢ/∂ξₖ (points[q])`: for node i the row of all
-    /// points and directions is contiguous, so J accumulates as x_i[d] · row (vectorisable).
-    gradients: Vec<f64>,
+    table: Arc<TabulatedBasis>,
 }
 
 /// Scratch memory for [`JacobianSampler::determinants_with`]; reuse one per thread.
 #[derive(Debug, Clone, Default)]
 pub struct JacobianWorkspace {
     coords: Vec<[f64; 3]>,
-    jacobians: Vec<f64>,
     determinants: Vec<f64>,
 }
 
@@ -75,14 +71,22 @@ impl JacobianSampler {
         family: NodeFamily,
         sampling: Sampling,
     ) -> Result<Self, QualityError> {
-        let mut points = Vec::new();
-        if matches!(sampling, Sampling::Quadrature | Sampling::Both) {
-            points.extend(QuadratureRule::new(shape, 2 * order).points);
-        }
-        if matches!(sampling, Sampling::Nodes | Sampling::Both) {
-            points.extend_from_slice(ReferenceNodes::try_new(shape, order, family)?.points());
-        }
-        Self::at_points(shape, order, family, &points)
+        let element = ReferenceElement::shared(shape, order, family)?;
+        let table = match sampling {
+            Sampling::Quadrature => element.quadrature(2 * order),
+            Sampling::Nodes => Arc::new(element.tabulate(element.nodes().points())),
+            Sampling::Both => {
+                let mut points = element.quadrature(2 * order).points().to_vec();
+                points.extend_from_slice(element.nodes().points());
+                Arc::new(element.tabulate(&points))
+            }
+        };
+        Ok(JacobianSampler {
+            shape,
+            order,
+            family,
+            table,
+        })
     }
 
     /// The sampler at arbitrary reference `points` (e.g. to compare with another code's
@@ -93,24 +97,12 @@ impl JacobianSampler {
         family: NodeFamily,
         points: &[[f64; 3]],
     ) -> Result<Self, QualityError> {
-        let basis = LagrangeBasis::new(&ReferenceNodes::try_new(shape, order, family)?)?;
-        let derivatives = basis.gradient_matrices(points);
-        let (n, q, dim) = (basis.len(), points.len(), shape.dim());
-        let mut gradients = vec![0.0; n * dim * q];
-        for i in 0..n {
-            for p in 0..q {
-                for k in 0..dim {
-                    gradients[i * dim * q + p * dim + k] = derivatives[k][(p, i)];
-                }
-            }
-        }
+        let element = ReferenceElement::shared(shape, order, family)?;
         Ok(JacobianSampler {
             shape,
             order,
             family,
-            points: points.to_vec(),
-            num_nodes: n,
-            gradients,
+            table: Arc::new(element.tabulate(points)),
         })
     }
 
@@ -131,12 +123,12 @@ impl JacobianSampler {
 
     /// The sample points (reference coordinates).
     pub fn points(&self) -> &[[f64; 3]] {
-        &self.points
+        self.table.points()
     }
 
     /// Number of nodes of an element (length of the coordinate list it expects).
     pub fn num_nodes(&self) -> usize {
-        self.num_nodes
+        self.table.num_nodes()
     }
 
     /// ∇Φ_node at sample point `point` (reference coordinates; the components beyond the
@@ -144,9 +136,8 @@ impl JacobianSampler {
     /// ∂J/∂x_node = e_d ⊗ ∇Φ_node.
     pub fn gradient(&self, node: usize, point: usize) -> [f64; 3] {
         let dim = self.shape.dim();
-        let at = node * dim * self.points.len() + point * dim;
         let mut g = [0.0; 3];
-        g[..dim].copy_from_slice(&self.gradients[at..at + dim]);
+        g[..dim].copy_from_slice(&self.table.gradients(point)[node][..dim]);
         g
     }
 
@@ -157,35 +148,11 @@ impl JacobianSampler {
         coords: &[[f64; 3]],
         workspace: &'w mut JacobianWorkspace,
     ) -> &'w [f64] {
-        let dim = self.shape.dim();
-        let q = self.points.len();
-        let row = dim * q;
-        let jac = &mut workspace.jacobians;
-        jac.clear();
-        jac.resize(dim * row, 0.0);
-        // J[d][k] at point p lives at jac[d·row + p·dim + k].
-        for (i, x) in coords.iter().enumerate().take(self.num_nodes) {
-            let g = &self.gradients[i * row..(i + 1) * row];
-            for d in 0..dim {
-                let xd = x[d];
-                for (j, gj) in jac[d * row..(d + 1) * row].iter_mut().zip(g) {
-                    *j += xd * gj;
-                }
-            }
-        }
-        let out = &mut workspace.determinants;
-        out.clear();
-        out.extend((0..q).map(|p| {
-            let at = |d: usize, k: usize| jac[d * row + p * dim + k];
-            if dim == 2 {
-                at(0, 0) * at(1, 1) - at(0, 1) * at(1, 0)
-            } else {
-                at(0, 0) * (at(1, 1) * at(2, 2) - at(1, 2) * at(2, 1))
-                    - at(0, 1) * (at(1, 0) * at(2, 2) - at(1, 2) * at(2, 0))
-                    + at(0, 2) * (at(1, 0) * at(2, 1) - at(1, 1) * at(2, 0))
-            }
-        }));
-        out
+        self.table.determinants_into(
+            &coords[..self.num_nodes().min(coords.len())],
+            &mut workspace.determinants,
+        );
+        &workspace.determinants
     }
 
     /// det J at every sample point (allocating convenience form of
@@ -251,7 +218,7 @@ pub(crate) fn check_cells(mesh: &HighOrderMesh) -> Result<Vec<Shape>, QualityErr
     let mut shapes = Vec::new();
     let count = mesh.nodes.len();
     for (element, cell) in mesh.cells.iter().enumerate() {
-        let shape = cell_shape(element, cell)?;
+        let shape = cell.kind;
         if shape.dim() != mesh.dim {
             return Err(QualityError::WrongDimension {
                 element,
@@ -282,16 +249,6 @@ pub(crate) fn check_cells(mesh: &HighOrderMesh) -> Result<Vec<Shape>, QualityErr
     }
     shapes.sort();
     Ok(shapes)
-}
-
-/// The reference shape of a cell, or a clear error for pyramids.
-pub(crate) fn cell_shape(element: usize, cell: &HighOrderElement) -> Result<Shape, QualityError> {
-    cell.kind
-        .shape()
-        .map_err(|_| QualityError::UnsupportedElement {
-            element,
-            kind: cell.kind,
-        })
 }
 
 /// Copies the node coordinates of `cell` into `coords` (canonical local order), relative to
@@ -338,9 +295,7 @@ pub fn scaled_jacobian(mesh: &HighOrderMesh, sampling: Sampling) -> Result<Vec<f
         .cells
         .par_iter()
         .map_init(JacobianWorkspace::default, |workspace, cell| {
-            let Some(sampler) = cell.kind.shape().ok().and_then(|s| samplers.get(&s)) else {
-                return f64::NAN; // unreachable: every cell was checked above
-            };
+            let sampler = &samplers[&cell.kind]; // check_cells saw every shape
             let mut coords = std::mem::take(&mut workspace.coords);
             gather(mesh, cell, &mut coords);
             let value = sampler.scaled_jacobian_with(&coords, workspace);
@@ -367,7 +322,7 @@ pub fn jacobian_determinants(
             element,
             count: mesh.cells.len(),
         })?;
-    let shape = cell_shape(element, cell)?;
+    let shape = cell.kind;
     let expected = shape.num_nodes(mesh.order);
     if cell.nodes.len() != expected {
         return Err(QualityError::WrongNodeCount {

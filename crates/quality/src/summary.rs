@@ -5,7 +5,7 @@
 use std::collections::BTreeMap;
 use std::fmt;
 
-use hocurve_mesh::ElementType;
+use hocurve_mesh::Shape;
 use serde::Serialize;
 
 use crate::{QualityError, Validity, ValidityCheck};
@@ -187,7 +187,7 @@ impl QualitySummary {
     /// Summarises per-element values (all slices indexed by element; `kinds` gives the
     /// types). NaN scaled Jacobians count as invalid.
     pub fn new(
-        kinds: &[ElementType],
+        kinds: &[Shape],
         scaled_jacobian: &[f64],
         stretching: &[f64],
         validity: Option<&[ValidityCheck]>,

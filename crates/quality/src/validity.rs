@@ -29,9 +29,10 @@
 //! Ĩ below that margin come out undecided.
 
 use std::collections::BTreeMap;
+use std::sync::Arc;
 
 use hocurve_mesh::HighOrderMesh;
-use hocurve_nodes::{LagrangeBasis, NodeFamily, ReferenceNodes, Shape};
+use hocurve_nodes::{determinant, isoparametric_jacobian, NodeFamily, ReferenceElement, Shape};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -229,7 +230,8 @@ pub struct JacobianBezier {
     /// hexahedra), whose margin does not carry the conversion's exponential norm.
     tensor: Option<TensorJacobian>,
     root: JacobianSampler,
-    basis: LagrangeBasis,
+    /// The shared reference element, whose basis samples sub-elements.
+    element: Arc<ReferenceElement>,
     children: Vec<Affine>,
 }
 
@@ -253,13 +255,13 @@ impl JacobianBezier {
     pub fn new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, QualityError> {
         let space = BernsteinSpace::for_jacobian(shape, order)?;
         let root = JacobianSampler::at_points(shape, order, family, space.points())?;
-        let basis = LagrangeBasis::new(&ReferenceNodes::try_new(shape, order, family)?)?;
+        let element = ReferenceElement::shared(shape, order, family)?;
         Ok(JacobianBezier {
             tensor: TensorJacobian::new(shape, order, family)?,
             subdivision: space.subdivision(),
             space,
             root,
-            basis,
+            element,
             children: children(shape),
         })
     }
@@ -291,22 +293,17 @@ impl JacobianBezier {
         values: &mut Vec<f64>,
     ) {
         let dim = self.space.shape().dim();
-        let n = self.basis.len();
+        let n = self.element.len();
         grad_scratch.resize(n, [0.0; 3]);
         grads.resize(n, [0.0; 3]);
         values.clear();
         for &eta in self.space.points() {
             let xi = map.apply(eta);
-            self.basis.eval_grad_with(xi, grad_scratch, grads);
-            let mut j = [[0.0; 3]; 3];
-            for (x, g) in coords.iter().zip(grads.iter()) {
-                for d in 0..dim {
-                    for k in 0..dim {
-                        j[d][k] += x[d] * g[k];
-                    }
-                }
-            }
-            values.push(determinant(&j, dim));
+            self.element.basis().eval_grad_with(xi, grad_scratch, grads);
+            values.push(determinant(
+                &isoparametric_jacobian(coords, grads, dim),
+                dim,
+            ));
         }
     }
 
@@ -494,17 +491,6 @@ impl JacobianBezier {
     }
 }
 
-/// det of the leading dim×dim block.
-fn determinant(j: &[[f64; 3]; 3], dim: usize) -> f64 {
-    if dim == 2 {
-        j[0][0] * j[1][1] - j[0][1] * j[1][0]
-    } else {
-        j[0][0] * (j[1][1] * j[2][2] - j[1][2] * j[2][1])
-            - j[0][1] * (j[1][0] * j[2][2] - j[1][2] * j[2][0])
-            + j[0][2] * (j[1][0] * j[2][1] - j[1][1] * j[2][0])
-    }
-}
-
 /// The Bézier validity check of every cell (Vec indexed like `mesh.cells`), in parallel and
 /// deterministic.
 pub fn check_validity(
@@ -516,30 +502,19 @@ pub fn check_validity(
         .iter()
         .map(|&s| Ok((s, JacobianBezier::new(s, mesh.order, mesh.family)?)))
         .collect::<Result<_, QualityError>>()?;
-    let results: Vec<Option<ValidityCheck>> = mesh
+    // check_cells put every cell's shape in `checkers`.
+    Ok(mesh
         .cells
         .par_iter()
         .map_init(BezierWorkspace::default, |ws, cell| {
-            let checker = cell.kind.shape().ok().and_then(|s| checkers.get(&s))?;
+            let checker = &checkers[&cell.kind];
             let mut coords = std::mem::take(&mut ws.coords);
             gather(mesh, cell, &mut coords);
             let check = checker.check_with(&coords, options, ws);
             ws.coords = coords;
-            Some(check)
+            check
         })
-        .collect();
-    // Every cell was checked by check_cells, so None cannot occur; map it to an error
-    // rather than panic all the same.
-    results
-        .into_iter()
-        .enumerate()
-        .map(|(element, r)| {
-            r.ok_or(QualityError::UnsupportedElement {
-                element,
-                kind: mesh.cells[element].kind,
-            })
-        })
-        .collect()
+        .collect())
 }
 
 #[cfg(test)]

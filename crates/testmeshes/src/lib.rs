@@ -8,10 +8,10 @@
 //! # Example
 //!
 //! ```
-//! use hocurve_mesh::ElementType;
+//! use hocurve_mesh::Shape;
 //! use hocurve_nodes::NodeFamily;
 //! use hocurve_testmeshes::{high_order, unit_cube, unit_square, Fill, Kuhn};
-//! let square = unit_square(4, ElementType::Tri, 0.2);
+//! let square = unit_square(4, Shape::Tri, 0.2);
 //! assert_eq!((square.vertices.len(), square.cells.len()), (25, 32));
 //! // The boundary stays where it is: only interior vertices move.
 //! assert_eq!(square.vertices[4], [1.0, 0.0, 0.0]);
@@ -21,7 +21,7 @@
 //! assert_eq!(mesh.nodes.len(), 125); // the 5 × 5 × 5 lattice of the p = 2 nodes
 //! ```
 
-use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+use hocurve_mesh::{Element, HighOrderMesh, LinearMesh, Shape};
 use hocurve_nodes::NodeFamily;
 
 /// How each small cube of [`unit_cube`] is filled.
@@ -117,17 +117,17 @@ impl From<f64> for Perturbation {
     }
 }
 
-/// The unit square as n × n quadrilaterals (`kind` [`ElementType::Quad`]) or 2n² triangles
-/// (`kind` [`ElementType::Tri`]: each square cut along its diagonal from (0, 0) to (1, 1)),
+/// The unit square as n × n quadrilaterals (`kind` [`Shape::Quad`]) or 2n² triangles
+/// (`kind` [`Shape::Tri`]: each square cut along its diagonal from (0, 0) to (1, 1)),
 /// counter-clockwise, entity 1, no facets. Vertex (i, j) is number i + (n + 1) j; interior
 /// vertices are moved by `perturb` (an amplitude, or a [`Perturbation`]).
 ///
 /// # Panics
 ///
 /// If `kind` is not a triangle or a quadrilateral.
-pub fn unit_square(n: usize, kind: ElementType, perturb: impl Into<Perturbation>) -> LinearMesh {
+pub fn unit_square(n: usize, kind: Shape, perturb: impl Into<Perturbation>) -> LinearMesh {
     assert!(
-        matches!(kind, ElementType::Tri | ElementType::Quad),
+        matches!(kind, Shape::Tri | Shape::Quad),
         "the unit square is made of triangles or quadrilaterals, not {kind}"
     );
     let perturb = perturb.into();
@@ -149,7 +149,7 @@ pub fn unit_square(n: usize, kind: ElementType, perturb: impl Into<Perturbation>
     for j in 0..n {
         for i in 0..n {
             let (a, b, c, d) = (id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
-            let lists = if kind == ElementType::Quad {
+            let lists = if kind == Shape::Quad {
                 vec![vec![a, b, c, d]]
             } else {
                 vec![vec![a, b, c], vec![a, c, d]]
@@ -194,7 +194,7 @@ pub fn unit_cube(n: usize, fill: Fill, perturb: impl Into<Perturbation>) -> Line
                 let v = |bits: usize| id(i + (bits & 1), j + ((bits >> 1) & 1), k + (bits >> 2));
                 let hex = || {
                     cell(
-                        ElementType::Hex,
+                        Shape::Hex,
                         vec![v(0), v(1), v(3), v(2), v(4), v(5), v(7), v(6)],
                     )
                 };
@@ -211,13 +211,13 @@ pub fn unit_cube(n: usize, fill: Fill, perturb: impl Into<Perturbation>) -> Line
                                 let (a, b) = kuhn.swap();
                                 tet.swap(a, b);
                             }
-                            cells.push(cell(ElementType::Tet, tet));
+                            cells.push(cell(Shape::Tet, tet));
                         }
                     }
                     Fill::Hex => cells.push(hex()),
                     Fill::HexPrism if 2 * i < n => cells.push(hex()),
                     Fill::Prism | Fill::HexPrism => {
-                        cells.extend(prisms.iter().map(|p| cell(ElementType::Prism, p.to_vec())))
+                        cells.extend(prisms.iter().map(|p| cell(Shape::Prism, p.to_vec())))
                     }
                 }
             }
@@ -242,7 +242,7 @@ pub fn unit_tet() -> LinearMesh {
             [0.0, 1.0, 0.0],
             [0.0, 0.0, 1.0],
         ],
-        cells: vec![cell(ElementType::Tet, vec![0, 1, 2, 3])],
+        cells: vec![cell(Shape::Tet, vec![0, 1, 2, 3])],
         ..Default::default()
     }
 }
@@ -259,7 +259,7 @@ pub fn high_order(mesh: &LinearMesh, order: usize, family: NodeFamily) -> HighOr
     }
 }
 
-fn cell(kind: ElementType, vertices: Vec<u32>) -> Element {
+fn cell(kind: Shape, vertices: Vec<u32>) -> Element {
     Element {
         kind,
         vertices,

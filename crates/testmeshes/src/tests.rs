@@ -76,7 +76,7 @@ fn only_interior_vertices_move_and_within_their_range() {
         }
     }
     assert_eq!(interior_moved, 3 * (n - 1).pow(3));
-    let square = unit_square(n, ElementType::Quad, 0.3);
+    let square = unit_square(n, Shape::Quad, 0.3);
     assert!(square.vertices.iter().all(|x| x[2] == 0.0));
     assert_eq!(square.vertices[..=n], straight.vertices[..=n]);
 }

@@ -24,12 +24,12 @@
 //! # Example
 //!
 //! ```
-//! use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+//! use hocurve_mesh::{Element, Shape, HighOrderMesh, LinearMesh};
 //! use hocurve_nodes::NodeFamily;
 //! use hocurve_quality::{check_validity, BezierOptions, Validity};
 //! use hocurve_untangle::{untangle, UntangleOptions};
 //! // The unit square as four triangles about its centre, at order 2.
-//! let tri = |a, b| Element { kind: ElementType::Tri, vertices: vec![a, b, 4], entity: 1 };
+//! let tri = |a, b| Element { kind: Shape::Tri, vertices: vec![a, b, 4], entity: 1 };
 //! let square = LinearMesh {
 //!     dim: 2,
 //!     vertices: vec![

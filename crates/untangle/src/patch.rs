@@ -3,8 +3,8 @@
 use std::collections::BTreeMap;
 
 use hocurve_mesh::HighOrderMesh;
-use hocurve_nodes::{QuadratureRule, Shape};
-use hocurve_quality::{BernsteinSpace, JacobianSampler};
+use hocurve_nodes::Shape;
+use hocurve_quality::{BernsteinSpace, JacobianSampler, Sampling};
 use rayon::prelude::*;
 
 use crate::energy::{inverse, CellTerm, DistortionEnergy, Slot};
@@ -225,10 +225,7 @@ fn samplers(
 ) -> Result<Vec<JacobianSampler>, UntangleError> {
     let mut shapes: Vec<Shape> = Vec::new();
     for &c in components.iter().flatten() {
-        let kind = mesh.cells[c].kind;
-        let shape = kind
-            .shape()
-            .map_err(|_| hocurve_quality::QualityError::UnsupportedElement { element: c, kind })?;
+        let shape = mesh.cells[c].kind;
         if !shapes.contains(&shape) {
             shapes.push(shape);
         }
@@ -238,23 +235,11 @@ fn samplers(
         .into_iter()
         .map(|shape| {
             let lattice = BernsteinSpace::for_jacobian(shape, mesh.order)?;
-            let mut points = Vec::new();
-            if lattice.len() <= MAX_LATTICE_POINTS {
-                points.extend_from_slice(lattice.points());
+            Ok(if lattice.len() <= MAX_LATTICE_POINTS {
+                JacobianSampler::at_points(shape, mesh.order, mesh.family, lattice.points())?
             } else {
-                points = QuadratureRule::new(shape, 2 * mesh.order).points;
-                points.extend_from_slice(
-                    hocurve_nodes::ReferenceNodes::try_new(shape, mesh.order, mesh.family)
-                        .map_err(hocurve_quality::QualityError::from)?
-                        .points(),
-                );
-            }
-            Ok(JacobianSampler::at_points(
-                shape,
-                mesh.order,
-                mesh.family,
-                &points,
-            )?)
+                JacobianSampler::new(shape, mesh.order, mesh.family, Sampling::Both)?
+            })
         })
         .collect()
 }
@@ -280,7 +265,7 @@ fn patch_energy<'a>(
     let mut terms = Vec::with_capacity(cells.len());
     for &c in cells {
         let cell = &mesh.cells[c];
-        let Some(&s) = cell.kind.shape().ok().and_then(|s| shape_index.get(&s)) else {
+        let Some(&s) = shape_index.get(&cell.kind) else {
             continue; // unreachable: every shape has a sampler
         };
         let sampler = &samplers[s];

@@ -34,7 +34,7 @@ fn check_energy(shape: Shape, corners: &[[f64; 3]], volume: f64) {
     }
     let exact = volume * (2.0 * mu * strain + lambda * trace * trace);
     for p in 1..=4 {
-        let reference = ReferenceElement::new(shape, p, NodeFamily::GaussLobatto).unwrap();
+        let reference = ReferenceStiffness::new(shape, p, NodeFamily::GaussLobatto).unwrap();
         let mut scratch = ElementScratch {
             coords: straight_coords(shape, p, corners),
             ..Default::default()
@@ -129,7 +129,7 @@ fn affine_fast_path_equals_quadrature() {
         [0.1, 0.3, 1.2],
     ];
     for p in 1..=4 {
-        let fast = ReferenceElement::new(Shape::Tet, p, NodeFamily::Fekete).unwrap();
+        let fast = ReferenceStiffness::new(Shape::Tet, p, NodeFamily::Fekete).unwrap();
         let mut slow = fast.clone();
         slow.simplex_stiffness = None;
         let coords = straight_coords(Shape::Tet, p, &tet);
@@ -152,7 +152,7 @@ fn affine_fast_path_equals_quadrature() {
 
 #[test]
 fn collapsed_cells_are_errors() {
-    let reference = ReferenceElement::new(Shape::Tri, 2, NodeFamily::Equispaced).unwrap();
+    let reference = ReferenceStiffness::new(Shape::Tri, 2, NodeFamily::Equispaced).unwrap();
     let flat = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]];
     let mut scratch = ElementScratch {
         coords: straight_coords(Shape::Tri, 2, &flat),

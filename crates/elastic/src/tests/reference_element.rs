@@ -1,10 +1,11 @@
 use super::*;
+use hocurve_nodes::ReferenceNodes;
 
 #[test]
 fn reference_stiffness_of_the_linear_triangle() {
     // Φ₀ = 1 − ξ − η, Φ₁ = ξ, Φ₂ = η; area 1/2: S_ξξ = ½ [[1,−1,0],[−1,1,0],[0,0,0]],
     // S_ξη[i][j] = ½ ∂ξΦᵢ ∂ηΦⱼ = ½ [[1,0,−1],[−1,0,1],[0,0,0]].
-    let r = ReferenceElement::new(Shape::Tri, 1, NodeFamily::Equispaced).unwrap();
+    let r = ReferenceStiffness::new(Shape::Tri, 1, NodeFamily::Equispaced).unwrap();
     let s = r.simplex_stiffness.as_ref().unwrap();
     let xx = [0.5, -0.5, 0.0, -0.5, 0.5, 0.0, 0.0, 0.0, 0.0];
     let xy = [0.5, 0.0, -0.5, -0.5, 0.0, 0.5, 0.0, 0.0, 0.0];
@@ -22,7 +23,7 @@ fn reference_stiffness_rows_sum_to_zero_and_traces_match_volume_integrals() {
     // with xᵢ the nodes, Σᵢⱼ ξᵢ,α S_αα[i][j] ξⱼ,α = ∫ (∂ξ_α/∂ξ_α)² = |T|.
     for (shape, volume) in [(Shape::Tri, 0.5), (Shape::Tet, 1.0 / 6.0)] {
         for p in 1..=5 {
-            let r = ReferenceElement::new(shape, p, NodeFamily::Fekete).unwrap();
+            let r = ReferenceStiffness::new(shape, p, NodeFamily::Fekete).unwrap();
             let nodes = ReferenceNodes::new(shape, p, NodeFamily::Fekete);
             let s = r.simplex_stiffness.as_ref().unwrap();
             let n = r.len;

@@ -1,5 +1,5 @@
 use super::*;
-use hocurve_mesh::{Element, ElementType, LinearMesh};
+use hocurve_mesh::{Element, LinearMesh, Shape};
 use hocurve_nodes::NodeFamily;
 
 fn strip(n: usize) -> HighOrderMesh {
@@ -14,7 +14,7 @@ fn strip(n: usize) -> HighOrderMesh {
         let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
         for v in [vec![a, b, c], vec![a, c, d]] {
             cells.push(Element {
-                kind: ElementType::Tri,
+                kind: Shape::Tri,
                 vertices: v,
                 entity: 1,
             });

@@ -3,9 +3,10 @@
 //! node by closest-point projection.
 
 use std::collections::{BTreeMap, BTreeSet, HashMap};
+use std::sync::Arc;
 
 use hocurve_mesh::HighOrderMesh;
-use hocurve_nodes::{ReferenceNodes, Shape};
+use hocurve_nodes::{ReferenceElement, Shape};
 use hocurve_nurbs::GeometryModel;
 use rayon::prelude::*;
 
@@ -113,10 +114,7 @@ pub fn place_boundary_nodes_with(
         for &n in &facet.nodes {
             node_entities.entry(n).or_default().insert(e);
         }
-        let shape = facet
-            .kind
-            .shape()
-            .map_err(|err| GeodesicError::Mismatch(err.to_string()))?;
+        let shape = facet.kind;
         for [i, j] in facet_edges(shape) {
             let (a, b) = (facet.nodes[i], facet.nodes[j]);
             let key = [a.min(b), a.max(b)];
@@ -277,23 +275,20 @@ pub fn place_boundary_nodes_with(
     }
 
     // Face-interior nodes, facet by facet (from the same carriers).
-    let reference: BTreeMap<Shape, ReferenceNodes> = curved
+    let reference: BTreeMap<Shape, Arc<ReferenceElement>> = curved
         .iter()
-        .filter_map(|&(k, _)| mesh.facets[k].kind.shape().ok())
+        .map(|&(k, _)| mesh.facets[k].kind)
         .collect::<BTreeSet<_>>()
         .into_iter()
-        .map(|s| ReferenceNodes::try_new(s, order, mesh.family).map(|r| (s, r)))
+        .map(|s| ReferenceElement::shared(s, order, mesh.family).map(|r| (s, r)))
         .collect::<Result<_, _>>()
         .map_err(|e| GeodesicError::Mismatch(e.to_string()))?;
     let placed: Vec<Vec<(u32, [f64; 3])>> = curved
         .par_iter()
         .map(|&(k, e)| {
             let facet = &mesh.facets[k];
-            let shape = facet
-                .kind
-                .shape()
-                .map_err(|err| GeodesicError::Mismatch(err.to_string()))?;
-            let refn = &reference[&shape];
+            let shape = facet.kind;
+            let refn = reference[&shape].nodes();
             place_facet(
                 geometry,
                 &carrier_of,

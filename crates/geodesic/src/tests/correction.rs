@@ -9,8 +9,8 @@ use crate::{
     associate_boundary, place_boundary_nodes_with, AssociationRule, BoundaryNodeStrategy,
     BoundaryTargets, PlacementOptions,
 };
-use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
-use hocurve_nodes::{NodeFamily, Shape};
+use hocurve_mesh::{Element, HighOrderMesh, LinearMesh, PhysicalGroup, Shape};
+use hocurve_nodes::NodeFamily;
 use hocurve_nurbs::vec3::{add, cross, norm, reject, scale, sub, unit};
 
 fn close(a: [f64; 3], b: [f64; 3], tol: f64) -> bool {
@@ -190,14 +190,14 @@ fn thin_pair() -> (LinearMesh, [u32; 4]) {
             v.swap(1, 2);
         }
         Element {
-            kind: ElementType::Tet,
+            kind: Shape::Tet,
             vertices: v.to_vec(),
             entity: 1,
         }
     };
     let cells = vec![tet([4, 0, 1, 2]), tet([4, 0, 3, 1])];
     let tri = |v: [u32; 3]| Element {
-        kind: ElementType::Tri,
+        kind: Shape::Tri,
         vertices: v.to_vec(),
         entity: 1,
     };

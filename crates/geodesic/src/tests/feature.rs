@@ -9,8 +9,8 @@ use crate::{
     associate_boundary, place_boundary_nodes_with, AssociationRule, BoundaryNodeStrategy,
     BoundaryTargets, PlacementOptions,
 };
-use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh, PhysicalGroup};
-use hocurve_nodes::{gauss_legendre, NodeFamily, Shape};
+use hocurve_mesh::{Element, HighOrderMesh, LinearMesh, PhysicalGroup, Shape};
+use hocurve_nodes::{gauss_legendre, NodeFamily};
 use hocurve_nurbs::shapes::{circle, cylinder, AnalyticShape};
 use hocurve_nurbs::vec3::{norm, sub};
 use hocurve_nurbs::{GeometricEntity, NurbsSurface};
@@ -83,17 +83,17 @@ fn can(n: usize, slope: f64) -> LinearMesh {
     let mut facets = vec![];
     for i in 0..n {
         cells.push(Element {
-            kind: ElementType::Prism,
+            kind: Shape::Prism,
             vertices: vec![0, rim(i), rim(i + 1), centre_top, top(i), top(i + 1)],
             entity: 1,
         });
         facets.push(Element {
-            kind: ElementType::Tri,
+            kind: Shape::Tri,
             vertices: vec![0, rim(i + 1), rim(i)],
             entity: 1,
         });
         facets.push(Element {
-            kind: ElementType::Quad,
+            kind: Shape::Quad,
             vertices: vec![rim(i), rim(i + 1), top(i + 1), top(i)],
             entity: 2,
         });

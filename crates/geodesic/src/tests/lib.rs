@@ -153,8 +153,8 @@ fn a_surface_for_a_2d_mesh_is_an_error() {
 mod placement {
     use super::*;
     use crate::{place_boundary_nodes, BoundaryNodeStrategy};
-    use hocurve_mesh::{Element, ElementType, HighOrderMesh, PhysicalGroup};
-    use hocurve_nodes::{NodeFamily, ReferenceNodes, Shape};
+    use hocurve_mesh::{Element, HighOrderMesh, PhysicalGroup, Shape};
+    use hocurve_nodes::{NodeFamily, ReferenceNodes};
     use hocurve_nurbs::shapes::circle;
     use hocurve_nurbs::vec3::{distance, dot, norm, sub};
     use std::collections::BTreeMap;
@@ -177,7 +177,7 @@ mod placement {
             if !c {
                 continue;
             }
-            let shape = facet.kind.shape().unwrap();
+            let shape = facet.kind;
             let r = ReferenceNodes::new(shape, mesh.order, mesh.family);
             let edges: Vec<[usize; 2]> = if shape == Shape::Line {
                 vec![[0, 1]]
@@ -312,12 +312,12 @@ mod placement {
             dim: 3,
             vertices: vec![[0.0; 3], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
             cells: vec![Element {
-                kind: ElementType::Tet,
+                kind: Shape::Tet,
                 vertices: vec![0, 1, 2, 3],
                 entity: 1,
             }],
             facets: vec![Element {
-                kind: ElementType::Tri,
+                kind: Shape::Tri,
                 vertices: vec![1, 2, 3],
                 entity: 1,
             }],

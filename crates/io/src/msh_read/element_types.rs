@@ -2,21 +2,21 @@
 //! complete Lagrange elements of any order for the high-order reader) and, for the others,
 //! what they are, so that the error can name them.
 
-use hocurve_mesh::ElementType;
+use hocurve_mesh::Shape;
 
 use crate::ordering::gmsh_type_shape;
 
 /// The element type of a block of elements: its type, order and number of nodes.
 #[derive(Debug, Clone, Copy)]
 pub(super) struct BlockKind {
-    pub(super) kind: ElementType,
+    pub(super) kind: Shape,
     pub(super) order: usize,
     pub(super) nodes: usize,
 }
 
 impl BlockKind {
     /// A first-order element of type `kind`.
-    pub(super) fn linear(kind: ElementType) -> Self {
+    pub(super) fn linear(kind: Shape) -> Self {
         BlockKind {
             kind,
             order: 1,
@@ -33,7 +33,7 @@ pub(super) fn high_order_kind(t: i64) -> Result<Option<BlockKind>, String> {
     }
     if let Some((shape, order)) = i32::try_from(t).ok().and_then(gmsh_type_shape) {
         return Ok(Some(BlockKind {
-            kind: ElementType::from_shape(shape),
+            kind: shape,
             order,
             nodes: shape.num_nodes(order),
         }));
@@ -58,14 +58,14 @@ pub(super) fn high_order_kind(t: i64) -> Result<Option<BlockKind>, String> {
 }
 
 /// What Gmsh element type `t` is, as far as hocurve cares.
-pub(super) fn element_kind(t: i64) -> Result<Option<ElementType>, String> {
+pub(super) fn element_kind(t: i64) -> Result<Option<Shape>, String> {
     Ok(Some(match t {
-        1 => ElementType::Line,
-        2 => ElementType::Tri,
-        3 => ElementType::Quad,
-        4 => ElementType::Tet,
-        5 => ElementType::Hex,
-        6 => ElementType::Prism,
+        1 => Shape::Line,
+        2 => Shape::Tri,
+        3 => Shape::Quad,
+        4 => Shape::Tet,
+        5 => Shape::Hex,
+        6 => Shape::Prism,
         7 => {
             return Err(
                 "pyramid elements are not supported (Gmsh element type 7); hocurve \

@@ -5,9 +5,7 @@
 use std::collections::{BTreeMap, HashMap};
 use std::path::Path;
 
-use hocurve_mesh::{
-    Element, ElementType, HighOrderElement, HighOrderMesh, MeshError, PhysicalGroup,
-};
+use hocurve_mesh::{Element, HighOrderElement, HighOrderMesh, MeshError, PhysicalGroup, Shape};
 use hocurve_nodes::NodeFamily;
 
 use super::failure::{fail, R};
@@ -59,14 +57,14 @@ pub fn parse_high_order_msh(bytes: &[u8], path: &Path) -> Result<HighOrderMesh, 
         .and_then(|()| parser.finish_high_order())
         .map_err(|e| malformed(e.location, e.message))?;
     let p = raw.order;
-    let mut permutations: HashMap<ElementType, Vec<usize>> = HashMap::new();
+    let mut permutations: HashMap<Shape, Vec<usize>> = HashMap::new();
     let mut canonical = |list: &[Element]| -> Result<Vec<HighOrderElement>, MeshError> {
         list.iter()
             .map(|e| {
                 let perm = match permutations.entry(e.kind) {
                     std::collections::hash_map::Entry::Occupied(o) => o.into_mut(),
                     std::collections::hash_map::Entry::Vacant(v) => {
-                        v.insert(gmsh_permutation(e.kind.shape()?, p))
+                        v.insert(gmsh_permutation(e.kind, p))
                     }
                 };
                 let mut nodes = vec![0; e.vertices.len()];

@@ -3,7 +3,7 @@
 
 use std::collections::{BTreeMap, HashMap, HashSet};
 
-use hocurve_mesh::{Element, ElementType, PhysicalGroup};
+use hocurve_mesh::{Element, PhysicalGroup, Shape};
 
 use super::cursor::Cursor;
 use super::failure::{fail, R};
@@ -20,10 +20,10 @@ pub(super) enum Version {
 }
 
 /// Identity of an element for merging the copies MSH 2 writes once per physical group.
-pub(super) type DedupKey = (ElementType, i32, [u32; 8]);
+pub(super) type DedupKey = (Shape, i32, [u32; 8]);
 
 /// The [`DedupKey`] of an element.
-pub(super) fn dedup_key(kind: ElementType, entity: i32, vertices: &[u32]) -> DedupKey {
+pub(super) fn dedup_key(kind: Shape, entity: i32, vertices: &[u32]) -> DedupKey {
     let mut v = [u32::MAX; 8];
     for (slot, &x) in v.iter_mut().zip(vertices) {
         *slot = x;

@@ -1,9 +1,9 @@
 //! Small curved meshes of every shape, for the readers' round-trip tests.
 
-use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
-use hocurve_nodes::{NodeFamily, Shape};
+use hocurve_mesh::{Element, HighOrderMesh, LinearMesh, Shape};
+use hocurve_nodes::NodeFamily;
 
-fn element(kind: ElementType, vertices: &[u32]) -> Element {
+fn element(kind: Shape, vertices: &[u32]) -> Element {
     Element {
         kind,
         vertices: vertices.to_vec(),
@@ -11,7 +11,7 @@ fn element(kind: ElementType, vertices: &[u32]) -> Element {
     }
 }
 
-fn facet(kind: ElementType, vertices: &[u32], entity: i32) -> Element {
+fn facet(kind: Shape, vertices: &[u32], entity: i32) -> Element {
     Element {
         kind,
         vertices: vertices.to_vec(),
@@ -32,7 +32,7 @@ pub(crate) fn two_cells(shape: Shape) -> LinearMesh {
         }
         v
     };
-    use ElementType::*;
+    use Shape::*;
     match shape {
         Shape::Tri => LinearMesh {
             dim: 2,
@@ -87,7 +87,7 @@ pub(crate) fn two_cells(shape: Shape) -> LinearMesh {
 
 /// A quadrilateral and a triangle (2D), or a hexahedron and a prism (3D).
 pub(crate) fn hybrid(dim: usize) -> LinearMesh {
-    use ElementType::*;
+    use Shape::*;
     if dim == 2 {
         LinearMesh {
             dim: 2,
@@ -143,7 +143,7 @@ pub(crate) fn curved(linear: &LinearMesh, p: usize) -> HighOrderMesh {
 }
 
 /// Bit patterns of each cell's node coordinates, canonical order.
-pub(crate) fn cell_bits(mesh: &HighOrderMesh) -> Vec<(ElementType, Vec<[u64; 3]>)> {
+pub(crate) fn cell_bits(mesh: &HighOrderMesh) -> Vec<(Shape, Vec<[u64; 3]>)> {
     mesh.cells
         .iter()
         .map(|c| {
@@ -159,7 +159,7 @@ pub(crate) fn cell_bits(mesh: &HighOrderMesh) -> Vec<(ElementType, Vec<[u64; 3]>
 }
 
 /// Same for the facets.
-pub(crate) fn facet_bits(mesh: &HighOrderMesh) -> Vec<(ElementType, i32, Vec<[u64; 3]>)> {
+pub(crate) fn facet_bits(mesh: &HighOrderMesh) -> Vec<(Shape, i32, Vec<[u64; 3]>)> {
     mesh.facets
         .iter()
         .map(|c| {

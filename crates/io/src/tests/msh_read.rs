@@ -1,6 +1,6 @@
 use super::*;
 use crate::{IoError, Location};
-use hocurve_mesh::{Element, ElementType, LinearMesh, PhysicalGroup};
+use hocurve_mesh::{Element, LinearMesh, PhysicalGroup, Shape};
 use std::path::{Path, PathBuf};
 
 fn fixture(name: &str) -> PathBuf {
@@ -131,7 +131,7 @@ fn check_small(m: &LinearMesh) {
         ]
     );
     let tri = |v: Vec<u32>| Element {
-        kind: ElementType::Tri,
+        kind: Shape::Tri,
         vertices: v,
         entity: 5,
     };
@@ -139,7 +139,7 @@ fn check_small(m: &LinearMesh) {
     assert_eq!(
         m.facets,
         vec![Element {
-            kind: ElementType::Line,
+            kind: Shape::Line,
             vertices: vec![1, 2],
             entity: 3
         }]
@@ -364,8 +364,8 @@ fn cube_in_four_formats_reads_identically() {
     let m = &meshes[0];
     assert_eq!(m.dim, 3);
     assert_eq!(m.vertices.len(), 27);
-    assert!(m.cells.iter().all(|c| c.kind == ElementType::Tet));
-    assert!(m.facets.iter().all(|c| c.kind == ElementType::Tri));
+    assert!(m.cells.iter().all(|c| c.kind == Shape::Tet));
+    assert!(m.facets.iter().all(|c| c.kind == Shape::Tri));
     assert_eq!(m.facets.len(), 48);
     let names: Vec<(usize, i32, &str)> = m
         .physical_groups

@@ -1,5 +1,5 @@
 use super::*;
-use hocurve_mesh::{Element, ElementType, LinearMesh, PhysicalGroup};
+use hocurve_mesh::{Element, LinearMesh, PhysicalGroup, Shape};
 use hocurve_nodes::NodeFamily;
 
 fn square() -> LinearMesh {
@@ -14,29 +14,29 @@ fn square() -> LinearMesh {
         ],
         cells: vec![
             Element {
-                kind: ElementType::Tri,
+                kind: Shape::Tri,
                 vertices: vec![0, 1, 4],
                 entity: 1,
             },
             Element {
-                kind: ElementType::Tri,
+                kind: Shape::Tri,
                 vertices: vec![1, 2, 4],
                 entity: 1,
             },
             Element {
-                kind: ElementType::Quad,
+                kind: Shape::Quad,
                 vertices: vec![0, 4, 2, 3],
                 entity: 2,
             },
         ],
         facets: vec![
             Element {
-                kind: ElementType::Line,
+                kind: Shape::Line,
                 vertices: vec![0, 1],
                 entity: 5,
             },
             Element {
-                kind: ElementType::Line,
+                kind: Shape::Line,
                 vertices: vec![2, 3],
                 entity: 6,
             },

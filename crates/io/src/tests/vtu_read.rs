@@ -110,7 +110,7 @@ fn vtk_like(mesh: &HighOrderMesh, style: Style) -> Vec<u8> {
     let mut offsets = Vec::new();
     let mut types = Vec::new();
     for cell in &mesh.cells {
-        let shape = cell.kind.shape().unwrap();
+        let shape = cell.kind;
         for &k in &vtk_permutation(shape, mesh.order) {
             connectivity.push(i64::from(cell.nodes[k]));
         }

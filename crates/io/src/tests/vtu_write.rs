@@ -1,5 +1,5 @@
 use super::*;
-use hocurve_mesh::{Element, ElementType, LinearMesh};
+use hocurve_mesh::{Element, LinearMesh, Shape};
 use hocurve_nodes::NodeFamily;
 
 fn base64(bytes: &[u8]) -> String {
@@ -37,12 +37,12 @@ fn two_triangles(order: usize) -> HighOrderMesh {
         ],
         cells: vec![
             Element {
-                kind: ElementType::Tri,
+                kind: Shape::Tri,
                 vertices: vec![0, 1, 2],
                 entity: 1,
             },
             Element {
-                kind: ElementType::Tri,
+                kind: Shape::Tri,
                 vertices: vec![0, 2, 3],
                 entity: 1,
             },

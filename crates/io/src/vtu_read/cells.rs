@@ -3,8 +3,8 @@
 
 use std::collections::HashMap;
 
-use hocurve_mesh::{ElementType, HighOrderElement};
-use hocurve_nodes::{NodeFamily, Shape};
+use hocurve_mesh::{HighOrderElement, Shape};
+use hocurve_nodes::NodeFamily;
 
 use crate::xml::XmlElement;
 
@@ -228,7 +228,7 @@ impl VtkFile<'_, '_> {
                 Some(_) => {}
             }
             let element = HighOrderElement {
-                kind: ElementType::from_shape(shape),
+                kind: shape,
                 nodes,
                 entity: 0,
             };

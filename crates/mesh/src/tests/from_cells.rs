@@ -1,5 +1,5 @@
 use super::*;
-use crate::ElementType;
+use crate::Shape;
 use hocurve_nodes::ReferenceNodes;
 
 /// A 2D hybrid (two triangles and a quadrilateral) or 3D hybrid (a hexahedron and a prism on
@@ -18,24 +18,24 @@ fn curved_hybrid(dim: usize, p: usize) -> HighOrderMesh {
             ],
             cells: vec![
                 Element {
-                    kind: ElementType::Quad,
+                    kind: Shape::Quad,
                     vertices: vec![0, 1, 2, 3],
                     entity: 1,
                 },
                 Element {
-                    kind: ElementType::Tri,
+                    kind: Shape::Tri,
                     vertices: vec![1, 4, 2],
                     entity: 1,
                 },
             ],
             facets: vec![
                 Element {
-                    kind: ElementType::Line,
+                    kind: Shape::Line,
                     vertices: vec![0, 1],
                     entity: 5,
                 },
                 Element {
-                    kind: ElementType::Line,
+                    kind: Shape::Line,
                     vertices: vec![4, 2],
                     entity: 6,
                 },
@@ -59,25 +59,25 @@ fn curved_hybrid(dim: usize, p: usize) -> HighOrderMesh {
             ],
             cells: vec![
                 Element {
-                    kind: ElementType::Hex,
+                    kind: Shape::Hex,
                     vertices: vec![0, 1, 2, 3, 4, 5, 6, 7],
                     entity: 1,
                 },
                 // Prism with bottom (1, 8, 2) and top (5, 9, 6): shares the face x = 1.
                 Element {
-                    kind: ElementType::Prism,
+                    kind: Shape::Prism,
                     vertices: vec![1, 8, 2, 5, 9, 6],
                     entity: 1,
                 },
             ],
             facets: vec![
                 Element {
-                    kind: ElementType::Quad,
+                    kind: Shape::Quad,
                     vertices: vec![0, 3, 2, 1],
                     entity: 5,
                 },
                 Element {
-                    kind: ElementType::Tri,
+                    kind: Shape::Tri,
                     vertices: vec![1, 2, 8],
                     entity: 6,
                 },
@@ -212,12 +212,12 @@ fn two_triangles_p2() -> (Vec<[f64; 3]>, Vec<HighOrderElement>) {
     ];
     let cells = vec![
         HighOrderElement {
-            kind: ElementType::Tri,
+            kind: Shape::Tri,
             nodes: vec![0, 1, 2, 4, 5, 6],
             entity: 1,
         },
         HighOrderElement {
-            kind: ElementType::Tri,
+            kind: Shape::Tri,
             nodes: vec![0, 2, 3, 6, 7, 8],
             entity: 1,
         },
@@ -293,7 +293,7 @@ fn bad_elements_are_errors_and_stray_facets_are_dropped() {
     assert!(matches!(err, MeshError::UnsupportedDimension(1)));
     // A boundary edge is kept, an edge that is not a cell edge (1-3) is dropped.
     let line = |a, b, m| HighOrderElement {
-        kind: ElementType::Line,
+        kind: Shape::Line,
         nodes: vec![a, b, m],
         entity: 7,
     };
@@ -315,7 +315,7 @@ fn inverted_cells_are_accepted_for_assessment() {
     let (nodes, mut cells) = two_triangles_p2();
     // Second triangle clockwise: from_linear refuses, from_cells builds it.
     cells[1] = HighOrderElement {
-        kind: ElementType::Tri,
+        kind: Shape::Tri,
         nodes: vec![0, 3, 2, 8, 7, 6],
         entity: 1,
     };

@@ -1,6 +1,6 @@
 use super::*;
 
-fn one_cell(dim: usize, kind: ElementType, vertices: Vec<[f64; 3]>) -> LinearMesh {
+fn one_cell(dim: usize, kind: Shape, vertices: Vec<[f64; 3]>) -> LinearMesh {
     LinearMesh {
         dim,
         cells: vec![Element {
@@ -43,19 +43,19 @@ fn inverted_tet_and_hex_are_rejected() {
         [0.0, 1.0, 0.0],
         [0.0, 0.0, 1.0],
     ];
-    assert!(one_cell(3, ElementType::Tet, tet.clone())
+    assert!(one_cell(3, Shape::Tet, tet.clone())
         .check_orientation()
         .is_ok());
     let mut inverted = tet;
     inverted.swap(1, 2);
-    let err = one_cell(3, ElementType::Tet, inverted)
+    let err = one_cell(3, Shape::Tet, inverted)
         .check_orientation()
         .unwrap_err();
     assert!(err.to_string().contains("inverted"), "{err}");
     // A hex with one top corner pushed below the bottom face.
     let mut hex: Vec<[f64; 3]> = hocurve_nodes::Shape::Hex.vertices().to_vec();
     hex[6] = [1.0, 1.0, -0.5];
-    let err = one_cell(3, ElementType::Hex, hex)
+    let err = one_cell(3, Shape::Hex, hex)
         .check_orientation()
         .unwrap_err();
     assert!(
@@ -68,7 +68,7 @@ fn inverted_tet_and_hex_are_rejected() {
 fn two_d_meshes_must_be_consistently_oriented() {
     let mut mesh = one_cell(
         2,
-        ElementType::Tri,
+        Shape::Tri,
         vec![
             [0.0, 0.0, 0.0],
             [1.0, 0.0, 0.0],
@@ -77,7 +77,7 @@ fn two_d_meshes_must_be_consistently_oriented() {
         ],
     );
     mesh.cells.push(Element {
-        kind: ElementType::Tri,
+        kind: Shape::Tri,
         vertices: vec![1, 3, 2],
         entity: 1,
     });
@@ -107,18 +107,18 @@ fn unused_vertices_are_left_out_and_the_rest_renumbered() {
             [0.0, 1.0, 0.0],
         ],
         cells: vec![Element {
-            kind: ElementType::Tri,
+            kind: Shape::Tri,
             vertices: vec![1, 2, 4],
             entity: 1,
         }],
         facets: vec![
             Element {
-                kind: ElementType::Line,
+                kind: Shape::Line,
                 vertices: vec![1, 2],
                 entity: 2,
             },
             Element {
-                kind: ElementType::Line,
+                kind: Shape::Line,
                 vertices: vec![0, 3],
                 entity: 3,
             },
@@ -151,7 +151,7 @@ fn unused_vertices_are_left_out_and_the_rest_renumbered() {
 fn validation_errors_name_file_tags() {
     let mut mesh = one_cell(
         2,
-        ElementType::Tri,
+        Shape::Tri,
         vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
     );
     mesh.vertex_tags = vec![501, 502, 503];
@@ -177,7 +177,7 @@ fn validation_errors_name_file_tags() {
 
     mesh.cells[0].vertices = vec![0, 1, 2];
     mesh.facets = vec![Element {
-        kind: ElementType::Tri,
+        kind: Shape::Tri,
         vertices: vec![0, 1, 2],
         entity: 1,
     }];
@@ -199,12 +199,12 @@ fn split_elements_get_new_tags_past_cells_and_facets() {
         dim: 2,
         vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
         cells: vec![Element {
-            kind: ElementType::Tri,
+            kind: Shape::Tri,
             vertices: vec![0, 1, 2],
             entity: 1,
         }],
         facets: vec![Element {
-            kind: ElementType::Line,
+            kind: Shape::Line,
             vertices: vec![0, 1],
             entity: 2,
         }],

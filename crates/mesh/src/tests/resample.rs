@@ -1,5 +1,5 @@
 use super::*;
-use crate::{Element, ElementType, LinearMesh};
+use crate::{Element, LinearMesh, Shape};
 
 /// A curved 3D hybrid mesh (hexahedron and prism) of order `p` on `family` nodes.
 fn curved(p: usize, family: NodeFamily) -> HighOrderMesh {
@@ -19,12 +19,12 @@ fn curved(p: usize, family: NodeFamily) -> HighOrderMesh {
         ],
         cells: vec![
             Element {
-                kind: ElementType::Hex,
+                kind: Shape::Hex,
                 vertices: vec![0, 1, 2, 3, 4, 5, 6, 7],
                 entity: 1,
             },
             Element {
-                kind: ElementType::Prism,
+                kind: Shape::Prism,
                 vertices: vec![1, 8, 2, 5, 9, 6],
                 entity: 1,
             },

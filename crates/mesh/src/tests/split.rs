@@ -3,7 +3,7 @@ use crate::Element;
 
 fn tet(vertices: [u32; 4]) -> Element {
     Element {
-        kind: ElementType::Tet,
+        kind: Shape::Tet,
         vertices: vertices.to_vec(),
         entity: 1,
     }
@@ -22,7 +22,7 @@ fn pair() -> LinearMesh {
         ],
         cells: vec![tet([0, 1, 2, 3]), tet([0, 2, 1, 4])],
         facets: vec![Element {
-            kind: ElementType::Tri,
+            kind: Shape::Tri,
             vertices: vec![0, 1, 3],
             entity: 7,
         }],
@@ -72,7 +72,7 @@ fn edges_that_do_not_exist_or_touch_non_simplices_are_not_split() {
     assert_eq!(same, mesh);
     let mut mixed = mesh.clone();
     mixed.cells.push(Element {
-        kind: ElementType::Hex,
+        kind: Shape::Hex,
         vertices: vec![0, 1, 5, 6, 7, 8, 9, 10],
         entity: 1,
     });
@@ -94,7 +94,7 @@ fn a_quadrilateral_splits_into_two_positive_triangles_along_the_diagonal_of_its_
             [0.0, 1.0, 0.0],
         ],
         cells: vec![Element {
-            kind: ElementType::Quad,
+            kind: Shape::Quad,
             vertices: vec![0, 1, 2, 3],
             entity: 4,
         }],
@@ -113,7 +113,7 @@ fn a_quadrilateral_splits_into_two_positive_triangles_along_the_diagonal_of_its_
         assert!(split
             .cells
             .iter()
-            .all(|c| c.kind == ElementType::Tri && c.entity == 4));
+            .all(|c| c.kind == Shape::Tri && c.entity == 4));
         assert!(
             split.cells.iter().all(|c| area(&split, c) > 0.0),
             "corner {corner}"

@@ -1,11 +1,11 @@
 use super::*;
-use hocurve_mesh::ElementType;
+use hocurve_mesh::Shape;
 
 #[test]
 fn histograms_are_drawn_as_svg_with_labels() {
     let values = [1.0, 0.97, 0.9, 0.52, -0.1];
     let summary = QualitySummary::new(
-        &[ElementType::Tri; 5],
+        &[Shape::Tri; 5],
         &values,
         &[1.0, 3.0, 300.0, 2.0, 1.2],
         None,

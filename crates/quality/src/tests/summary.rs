@@ -33,7 +33,7 @@ fn bins_follow_the_correctly_rounded_edges() {
 
 #[test]
 fn summary_of_hand_made_values() {
-    use ElementType::{Hex, Tet};
+    use Shape::{Hex, Tet};
     let kinds = [Tet, Tet, Tet, Hex, Tet, Hex, Tet, Tet];
     let scaled = [1.0, 0.96, 0.95, 0.4, -0.2, 0.0, 0.5, 0.97];
     let stretch = [1.0, 1.5, 2.0, 250.0, 199.0, 200.0, 1000.0, 4.0];

@@ -1,13 +1,13 @@
 //! Single-element meshes for the tests: the reference element of a type, its order-p nodes
 //! moved by a known map (the meshes of several elements are hocurve-testmeshes').
 
-use hocurve_mesh::{Element, ElementType, HighOrderMesh, LinearMesh};
+use hocurve_mesh::{Element, HighOrderMesh, LinearMesh, Shape};
 use hocurve_nodes::NodeFamily;
 
 /// The reference element of `kind` at order `order` (equispaced nodes), every node x moved
 /// to `map(x)`.
 pub fn single_element(
-    kind: ElementType,
+    kind: Shape,
     order: usize,
     map: impl Fn([f64; 3]) -> [f64; 3],
 ) -> HighOrderMesh {
@@ -16,14 +16,12 @@ pub fn single_element(
 
 /// As [`single_element`] with nodes of `family`.
 pub fn single_element_of_family(
-    kind: ElementType,
+    kind: Shape,
     order: usize,
     family: NodeFamily,
     map: impl Fn([f64; 3]) -> [f64; 3],
 ) -> HighOrderMesh {
-    let Ok(shape) = kind.shape() else {
-        panic!("no reference shape for {kind}");
-    };
+    let shape = kind;
     let mesh = LinearMesh {
         dim: shape.dim(),
         vertices: shape.vertices().to_vec(),

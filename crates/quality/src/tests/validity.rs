@@ -2,15 +2,15 @@ use super::*;
 use crate::jacobian::jacobian_determinants;
 use crate::test_meshes::{hash01, single_element};
 use crate::{scaled_jacobian, Sampling};
-use hocurve_mesh::ElementType;
+use hocurve_mesh::Shape;
 use hocurve_testmeshes::{unit_cube, Fill, Kuhn};
 
-const ALL_TYPES: [ElementType; 5] = [
-    ElementType::Tri,
-    ElementType::Quad,
-    ElementType::Tet,
-    ElementType::Hex,
-    ElementType::Prism,
+const ALL_TYPES: [Shape; 5] = [
+    Shape::Tri,
+    Shape::Quad,
+    Shape::Tet,
+    Shape::Hex,
+    Shape::Prism,
 ];
 
 fn check_one(mesh: &HighOrderMesh, max_depth: usize) -> ValidityCheck {
@@ -44,7 +44,7 @@ fn bezier_coefficients_reproduce_det_j_at_random_points() {
     // Randomly curved elements: every node moved by up to ±4 % of the element size. If a
     // degree of jacobian_degree were too low, the Bernstein polynomial could not match.
     for kind in ALL_TYPES {
-        let shape = kind.shape().unwrap();
+        let shape = kind;
         // Quadrilaterals and hexahedra take their coefficients from the map's control
         // points (hexahedra to p = 8 against their error bound in the test below).
         let top = if matches!(shape, Shape::Quad | Shape::Hex) {
@@ -119,7 +119,7 @@ fn inversion_at_a_vertex_missed_by_quadrature_is_invalid() {
     // y = η, det J = 1 + 4a(1 − 2ξ − η): −0.2 at vertex (1, 0) for a = 0.3, positive at
     // every interior quadrature point.
     let a = 0.3;
-    let mesh = single_element(ElementType::Tri, 2, |x| {
+    let mesh = single_element(Shape::Tri, 2, |x| {
         [x[0] + 4.0 * a * x[0] * (1.0 - x[0] - x[1]), x[1], 0.0]
     });
     let sampled = scaled_jacobian(&mesh, Sampling::Quadrature).unwrap()[0];
@@ -147,7 +147,7 @@ fn strip_fold(x: [f64; 3]) -> [f64; 3] {
 
 #[test]
 fn inversion_strictly_between_all_sample_points_is_never_called_valid() {
-    for kind in [ElementType::Quad, ElementType::Hex] {
+    for kind in [Shape::Quad, Shape::Hex] {
         let mesh = single_element(kind, 3, strip_fold);
         for sampling in [Sampling::Quadrature, Sampling::Nodes, Sampling::Both] {
             let sampled = scaled_jacobian(&mesh, sampling).unwrap()[0];
@@ -157,7 +157,7 @@ fn inversion_strictly_between_all_sample_points_is_never_called_valid() {
         assert_ne!(unrefined.validity, Validity::Valid, "{kind}");
         let check = check_one(&mesh, 4);
         assert_eq!(check.validity, Validity::Invalid, "{kind}");
-        if kind == ElementType::Quad {
+        if kind == Shape::Quad {
             // Not decided on the whole element; one halving puts a lattice point at
             // ξ = ½ where det J = A < 0.
             assert_eq!(unrefined.validity, Validity::Undecided);
@@ -178,7 +178,7 @@ fn inversion_strictly_between_all_sample_points_is_never_called_valid() {
 #[test]
 fn jacobian_touching_zero_is_undecided() {
     // det J = 4(ξ − ½)² ≥ 0 with a zero on the plane ξ = ½: neither certificate applies.
-    for kind in [ElementType::Quad, ElementType::Prism] {
+    for kind in [Shape::Quad, Shape::Prism] {
         let mesh = single_element(kind, 3, |x| [4.0 / 3.0 * (x[0] - 0.5).powi(3), x[1], x[2]]);
         let check = check_one(&mesh, 2);
         assert_eq!(check.validity, Validity::Undecided, "{kind}");
@@ -265,7 +265,7 @@ fn hexahedron_coefficients_match_det_j_by_1d_lagrange_products_within_their_erro
     // Every node moved at random: a generic map of Q_p, whose control points oscillate
     // more with p (the bound grows accordingly, and stays small for smooth maps).
     for p in [2, 4, 6, 8] {
-        let mut mesh = single_element(ElementType::Hex, p, |x| x);
+        let mut mesh = single_element(Shape::Hex, p, |x| x);
         for (i, x) in mesh.nodes.iter_mut().enumerate() {
             for d in 0..3 {
                 x[d] += 0.08 * (hash01(97 * i as u64 + d as u64) - 0.5);

@@ -1,6 +1,6 @@
 //! Repairs of tangled meshes, checked by the Bézier certification of hocurve-quality.
 
-use hocurve_mesh::{ElementType, HighOrderMesh};
+use hocurve_mesh::{HighOrderMesh, Shape};
 use hocurve_nodes::NodeFamily;
 use hocurve_quality::{check_validity, BezierOptions, Validity};
 use hocurve_testmeshes::{unit_cube, unit_square, Fill, Kuhn};
@@ -41,7 +41,7 @@ fn tangled(
     let linear = if dim == 3 {
         unit_cube(n, Fill::Tet(Kuhn::LexicographicMiddleSwapped), 0.0)
     } else {
-        unit_square(n, ElementType::Tri, 0.0)
+        unit_square(n, Shape::Tri, 0.0)
     };
     let mesh = HighOrderMesh::from_linear(&linear, order, NodeFamily::Equispaced).expect("mesh");
     let straight = mesh.nodes.clone();
