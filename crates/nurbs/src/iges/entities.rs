@@ -1,7 +1,7 @@
 //! Typed IGES entity records (plain data as written in the Parameter Data section; nothing is
 //! evaluated or converted here).
 
-use super::sections::Param;
+use super::params::Param;
 use super::IgesError;
 use crate::basis::MAX_DEGREE;
 

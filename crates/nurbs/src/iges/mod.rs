@@ -14,7 +14,10 @@
 
 mod constructions;
 mod convert;
+mod directory;
 mod entities;
+mod global;
+mod params;
 mod sections;
 mod tolerance;
 
@@ -22,8 +25,10 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 pub use convert::{geometry_from_iges, read_iges_geometry};
+pub use directory::DirectoryEntry;
 pub use entities::{BSplineCurveData, BSplineSurfaceData, EntityData};
-pub use sections::{parse_int, parse_real, DirectoryEntry, GlobalSection, Param, ParamValue};
+pub use global::GlobalSection;
+pub use params::{parse_int, parse_real, Param, ParamValue};
 pub use tolerance::RECOGNITION_TOLERANCE;
 
 /// Deepest chain of entity references accepted, and longest chain of 124 transformation
@@ -390,8 +395,8 @@ pub fn read_iges(path: impl AsRef<Path>) -> Result<IgesModel, IgesError> {
 /// Parses the text of an IGES 5.3 file (fixed ASCII form).
 pub fn parse_iges(text: &str) -> Result<IgesModel, IgesError> {
     let secs = sections::split_sections(text)?;
-    let global = sections::parse_global(&secs.global)?;
-    let directory = sections::parse_directory(&secs.directory)?;
+    let global = global::parse_global(&secs.global)?;
+    let directory = directory::parse_directory(&secs.directory)?;
     let pdelim = global.parameter_delimiter as u8;
     let rdelim = global.record_delimiter as u8;
     let p = &secs.parameter;
@@ -425,9 +430,9 @@ pub fn parse_iges(text: &str) -> Result<IgesModel, IgesError> {
                 });
             }
         }
-        let stream = sections::Stream::from_records(records, 1, 64);
+        let stream = params::Stream::from_records(records, 1, 64);
         let what = format!("entity type {} (DE {})", de.entity_type, de.de);
-        let params = sections::tokenize(&stream, 0, pdelim, rdelim, &what)?;
+        let params = params::tokenize(&stream, 0, pdelim, rdelim, &what)?;
         let end_line = records[count - 1].line;
         let type_param = &params[0];
         if type_param.as_int() != Some(de.entity_type as i64)
