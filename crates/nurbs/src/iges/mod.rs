@@ -16,7 +16,9 @@ mod constructions;
 mod convert;
 mod directory;
 mod entities;
+mod entity_parser;
 mod global;
+mod param_reader;
 mod params;
 mod sections;
 mod tolerance;
@@ -448,8 +450,8 @@ pub fn parse_iges(text: &str) -> Result<IgesModel, IgesError> {
                 found: type_param.describe(),
             });
         }
-        let mut reader = entities::Reader::new(&params[1..], de.de, de.entity_type, end_line);
-        let kind = entities::parse_entity(de.entity_type, &mut reader)?;
+        let mut reader = param_reader::Reader::new(&params[1..], de.de, de.entity_type, end_line);
+        let kind = entity_parser::parse_entity(de.entity_type, &mut reader)?;
         references.extend(reader.refs.iter().map(|r| (*r, de.de, de.entity_type)));
         entities.push(IgesEntity {
             de: de.de,
@@ -479,7 +481,7 @@ pub fn parse_iges(text: &str) -> Result<IgesModel, IgesError> {
 /// entities without cycles.
 fn validate(
     model: &IgesModel,
-    references: &[(entities::Reference, u32, i32)],
+    references: &[(param_reader::Reference, u32, i32)],
 ) -> Result<(), IgesError> {
     for (r, de, entity_type) in references {
         if model.entity(r.pointer).is_none() {
