@@ -43,8 +43,9 @@ use super::constructions::{
     line_segment, model_plane, plane_patch, restrict_curve, revolve_curve, similarity_scale,
     snap_full_turn, transform_curve, transform_shape, transform_surface, Affine, IDENTITY,
 };
+use super::model::compose;
 use super::tolerance::RECOGNITION_TOLERANCE;
-use super::{compose, read_iges, EntityData, IgesEntity, IgesError, IgesModel};
+use super::{read_iges, EntityData, IgesEntity, IgesError, IgesModel};
 use crate::model::{EntityGeometry, GeometricEntity, GeometryModel};
 use crate::shapes::AnalyticShape;
 use crate::vec3::{add, cross, distance, dot, norm, scale, sub};

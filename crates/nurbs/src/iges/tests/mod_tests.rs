@@ -1,4 +1,5 @@
 use std::collections::BTreeMap;
+use std::path::Path;
 
 use super::params::{tokenize, Stream};
 use super::sections::Record;
