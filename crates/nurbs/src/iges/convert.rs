@@ -38,12 +38,15 @@ use std::collections::BTreeSet;
 use std::f64::consts::TAU;
 use std::path::Path;
 
-use super::constructions::{
-    apply, apply_linear, bspline_surface, circular_arc, concatenate, elliptic_arc, extrude_curve,
-    line_segment, model_plane, plane_patch, restrict_curve, revolve_curve, similarity_scale,
-    snap_full_turn, transform_curve, transform_shape, transform_surface, Affine, IDENTITY,
+use super::affine::{
+    apply, apply_linear, compose, similarity_scale, transform_curve, transform_shape,
+    transform_surface, Affine, IDENTITY,
 };
-use super::model::compose;
+use super::curve_primitives::{circular_arc, elliptic_arc, line_segment, snap_full_turn};
+use super::join::concatenate;
+use super::plane_patch::{model_plane, plane_patch};
+use super::restrict::{bspline_surface, restrict_curve};
+use super::swept::{extrude_curve, revolve_curve};
 use super::tolerance::RECOGNITION_TOLERANCE;
 use super::{read_iges, EntityData, IgesEntity, IgesError, IgesModel};
 use crate::model::{EntityGeometry, GeometricEntity, GeometryModel};

@@ -12,19 +12,24 @@
 //!
 //! Every error names the 1-based line of the file and what was expected and found.
 
-mod constructions;
+mod affine;
 mod convert;
+mod curve_primitives;
 mod directory;
 mod entities;
 mod entity_parser;
 mod error;
 mod global;
+mod join;
 mod model;
 mod param_reader;
 mod params;
 mod parse;
+mod plane_patch;
 mod references;
+mod restrict;
 mod sections;
+mod swept;
 mod tolerance;
 
 pub use convert::{geometry_from_iges, read_iges_geometry};

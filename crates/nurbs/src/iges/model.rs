@@ -3,6 +3,7 @@
 
 use std::collections::BTreeMap;
 
+use super::affine::compose;
 use super::{DirectoryEntry, EntityData, GlobalSection, EXPANSION_FACTOR, EXPANSION_MINIMUM};
 
 /// One entity: its Directory Entry data and its typed parameters.
@@ -115,19 +116,4 @@ impl IgesModel {
             .iter()
             .filter(move |e| e.type_number() == type_number)
     }
-}
-
-/// `a ∘ b`: apply `b` first, then `a`.
-pub(super) fn compose(a: &[[f64; 4]; 3], b: &[[f64; 4]; 3]) -> [[f64; 4]; 3] {
-    let mut c = [[0.0; 4]; 3];
-    for i in 0..3 {
-        for j in 0..4 {
-            let mut s = if j == 3 { a[i][3] } else { 0.0 };
-            for k in 0..3 {
-                s += a[i][k] * b[k][j];
-            }
-            c[i][j] = s;
-        }
-    }
-    c
 }
