@@ -14,6 +14,10 @@
 
 mod affine;
 mod convert;
+mod convert_curves;
+mod convert_faces;
+mod convert_surfaces;
+mod converter;
 mod curve_primitives;
 mod directory;
 mod entities;
@@ -22,6 +26,7 @@ mod error;
 mod global;
 mod join;
 mod model;
+mod naming;
 mod param_reader;
 mod params;
 mod parse;

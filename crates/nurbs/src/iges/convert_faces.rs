@@ -1,0 +1,140 @@
+//! Faces: a 144 trimmed surface becomes its underlying surface (a plane's patch sized to
+//! cover its boundary curves; the trimming curves are not kept), and in a 2D model each
+//! planar face becomes its model-space boundary curves.
+
+use super::affine::{compose, Affine};
+use super::converter::{geometry_error, Converted, Converter};
+use super::plane_patch::model_plane;
+use super::tolerance::RECOGNITION_TOLERANCE;
+use super::{EntityData, IgesEntity, IgesError};
+use crate::model::EntityGeometry;
+use crate::shapes::AnalyticShape;
+use crate::vec3::{cross, dot, norm, sub};
+use crate::NurbsSurface;
+
+impl<'a> Converter<'a> {
+    /// A surface entity in model space (`to_model` maps its parent's space there) with its
+    /// closed form when it has one. `cover`: model-space points a plane patch must cover
+    /// besides its own boundary. A 144 trimmed surface is its underlying surface.
+    pub(super) fn surface(
+        &self,
+        e: &IgesEntity,
+        to_model: &Affine,
+        cover: &[[f64; 3]],
+    ) -> Result<(NurbsSurface, Option<AnalyticShape>), IgesError> {
+        let EntityData::TrimmedSurface {
+            surface,
+            outer,
+            inner,
+            ..
+        } = &e.kind
+        else {
+            return self.untrimmed_surface(e, to_model, cover);
+        };
+        let placed = compose(to_model, &self.own_transform(e));
+        let carrier = self.child(*surface, e)?;
+        let mut cover = cover.to_vec();
+        if matches!(carrier.kind, EntityData::Plane { .. }) {
+            for &de in outer.iter().chain(inner) {
+                let boundary = self.child(de, e)?;
+                if let EntityData::CurveOnSurface {
+                    model_curve: None, ..
+                } = boundary.kind
+                {
+                    continue; // parameter-space only: nothing to size the patch by
+                }
+                for c in self.curve_entities(boundary, &placed, "")? {
+                    if let EntityGeometry::Curve(c) = c.geometry {
+                        cover.extend_from_slice(&c.control_points);
+                    }
+                }
+            }
+        }
+        self.surface(carrier, &placed, &cover)
+    }
+
+    /// Whether the independent surfaces make a 2D model: there is at least one, each is a
+    /// 108 plane (bare or under a 144) and all lie in one plane.
+    pub(super) fn is_planar_model(&self, surfaces: &[&'a IgesEntity]) -> Result<bool, IgesError> {
+        let mut planes = Vec::new();
+        for &e in surfaces {
+            let mut placed = self.own_transform(e);
+            let mut carrier = e;
+            if let EntityData::TrimmedSurface { surface, .. } = carrier.kind {
+                carrier = self.child(surface, e)?;
+                placed = compose(&placed, &self.own_transform(carrier));
+            }
+            let EntityData::Plane { coefficients, .. } = carrier.kind else {
+                return Ok(false);
+            };
+            planes
+                .push(model_plane(coefficients, &placed).map_err(|r| geometry_error(carrier, r))?);
+        }
+        let Some(&(o, [_, _, n])) = planes.first() else {
+            return Ok(false);
+        };
+        let size = planes.iter().map(|p| norm(p.0)).fold(1.0, f64::max);
+        Ok(planes.iter().all(|&(p, [_, _, m])| {
+            norm(cross(n, m)) <= RECOGNITION_TOLERANCE
+                && dot(sub(p, o), n).abs() <= RECOGNITION_TOLERANCE * size
+        }))
+    }
+
+    /// The model-space boundary curves of a planar face (2D models).
+    pub(super) fn face_boundary_curves(
+        &self,
+        e: &'a IgesEntity,
+    ) -> Result<Vec<Converted<'a>>, IgesError> {
+        let placed = self.own_transform(e);
+        let note = format!(
+            ", boundary of entity type {} (DE {})",
+            e.type_number(),
+            e.de
+        );
+        let mut boundaries = Vec::new();
+        let mut plane = e;
+        let mut plane_placed = placed;
+        if let EntityData::TrimmedSurface {
+            surface,
+            outer,
+            inner,
+            ..
+        } = &e.kind
+        {
+            for &de in outer.iter().chain(inner) {
+                boundaries.push((self.child(de, e)?, placed));
+            }
+            plane = self.child(*surface, e)?;
+            plane_placed = compose(&placed, &self.own_transform(plane));
+        }
+        if boundaries.is_empty() {
+            if let EntityData::Plane {
+                boundary: Some(de), ..
+            } = plane.kind
+            {
+                boundaries.push((self.child(de, plane)?, plane_placed));
+            }
+        }
+        if boundaries.is_empty() {
+            return Err(geometry_error(
+                e,
+                "a planar face of a 2D model has no boundary curve".into(),
+            ));
+        }
+        let mut out = Vec::new();
+        for (b, to_model) in boundaries {
+            if let EntityData::CurveOnSurface {
+                model_curve: None, ..
+            } = b.kind
+            {
+                return Err(geometry_error(
+                    b,
+                    "boundary of a planar face of a 2D model without a model-space curve (CPTR = 0)"
+                        .into(),
+                ));
+            }
+            out.extend(self.curve_entities(b, &to_model, &note)?);
+        }
+        Ok(out)
+    }
+}
