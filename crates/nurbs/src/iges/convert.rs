@@ -38,9 +38,12 @@ use std::path::Path;
 
 use super::affine::IDENTITY;
 use super::converter::{unsupported, Converted, Converter};
+use super::entities::EntityData;
+use super::error::IgesError;
+use super::model::{IgesEntity, IgesModel};
 use super::naming::name_entities;
+use super::parse::read_iges;
 use super::tolerance::RECOGNITION_TOLERANCE;
-use super::{read_iges, EntityData, IgesEntity, IgesError, IgesModel};
 use crate::model::{EntityGeometry, GeometryModel};
 use crate::vec3::distance;
 use crate::NurbsCurve;

@@ -7,10 +7,12 @@ use super::affine::{
 };
 use super::converter::{geometry_error, unsupported, Converted, Converter};
 use super::curve_primitives::{circular_arc, elliptic_arc, line_segment};
+use super::entities::EntityData;
+use super::error::IgesError;
 use super::join::concatenate;
+use super::model::IgesEntity;
 use super::restrict::restrict_curve;
 use super::tolerance::RECOGNITION_TOLERANCE;
-use super::{EntityData, IgesEntity, IgesError};
 use crate::model::EntityGeometry;
 use crate::shapes::AnalyticShape;
 use crate::NurbsCurve;

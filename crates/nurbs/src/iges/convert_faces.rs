@@ -4,9 +4,11 @@
 
 use super::affine::{compose, Affine};
 use super::converter::{geometry_error, Converted, Converter};
+use super::entities::EntityData;
+use super::error::IgesError;
+use super::model::IgesEntity;
 use super::plane_patch::model_plane;
 use super::tolerance::RECOGNITION_TOLERANCE;
-use super::{EntityData, IgesEntity, IgesError};
 use crate::model::EntityGeometry;
 use crate::shapes::AnalyticShape;
 use crate::vec3::{cross, dot, norm, sub};

@@ -5,7 +5,9 @@
 use std::cell::Cell;
 
 use super::affine::{Affine, IDENTITY};
-use super::{EntityData, IgesEntity, IgesError, IgesModel};
+use super::entities::EntityData;
+use super::error::IgesError;
+use super::model::{IgesEntity, IgesModel};
 use crate::model::EntityGeometry;
 use crate::shapes::AnalyticShape;
 

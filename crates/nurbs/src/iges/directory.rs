@@ -1,7 +1,7 @@
 //! The Directory Entry section: the fixed 8-column fields of each entity's pair of records.
 
+use super::error::IgesError;
 use super::sections::Record;
-use super::IgesError;
 
 /// The fixed fields of one Directory Entry pair.
 #[derive(Debug, Clone, PartialEq)]

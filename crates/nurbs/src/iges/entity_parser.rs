@@ -2,8 +2,8 @@
 //! make its typed record.
 
 use super::entities::{BSplineCurveData, BSplineSurfaceData, EntityData};
+use super::error::IgesError;
 use super::param_reader::Reader;
-use super::IgesError;
 
 /// Reads the typed record of an entity from its parameters (the entity type number, the
 /// first parameter, already removed).

@@ -85,8 +85,8 @@ pub enum IgesError {
         /// Which pointers form the cycle.
         via: ReferenceKind,
     },
-    /// References nested deeper than [`MAX_NESTING`](super::MAX_NESTING) (no CAD system writes that; converting
-    /// it would recurse without a useful bound).
+    /// References nested deeper than [`MAX_NESTING`](crate::iges::MAX_NESTING) (no CAD
+    /// system writes that; converting it would recurse without a useful bound).
     #[error(
         "IGES line {line}: entity type {entity_type} (DE {de}) nests {via} more than {max} deep"
     )]
@@ -98,8 +98,9 @@ pub enum IgesError {
         via: ReferenceKind,
     },
     /// Entities shared so often through references that converting them (each reference
-    /// converts its target again) would take more than [`EXPANSION_FACTOR`](super::EXPANSION_FACTOR) times the
-    /// file's size: e.g. 60 nested composites each holding the next one twice, 2^60 curves.
+    /// converts its target again) would take more than
+    /// [`EXPANSION_FACTOR`](crate::iges::EXPANSION_FACTOR) times the file's size: e.g. 60
+    /// nested composites each holding the next one twice, 2^60 curves.
     #[error("IGES line {line}: entity type {entity_type} (DE {de}): converting the references would repeat entities for more than {limit} parameter records (the file has {records})")]
     ExpansionTooLarge {
         line: usize,

@@ -1,8 +1,8 @@
 //! The Global section (IGES 5.3 §2.2.4): its delimiters, units, model scale and resolution.
 
+use super::error::IgesError;
 use super::params::{tokenize, ParamValue, Stream};
 use super::sections::Record;
-use super::IgesError;
 
 /// The Global section (IGES 5.3 §2.2.4). Fields missing at the end of the section take their
 /// defaults (empty strings, zeros).

@@ -11,6 +11,14 @@
 //! type and line.
 //!
 //! Every error names the 1-based line of the file and what was expected and found.
+//!
+//! Layout: `parse` reads the file through `sections` (80-column records), `global`,
+//! `directory`, `params` (free-format fields), `param_reader` and `entity_parser` into the
+//! `entities` records of a `model`, whose pointers `references` checks. `convert` picks the
+//! independent entities and `convert_curves`, `convert_surfaces` and `convert_faces` (trimmed
+//! and 2D faces) build them, on the shared `converter` state, from the exact constructions in
+//! `affine`, `curve_primitives`, `restrict`, `swept`, `join` and `plane_patch`; `naming` names
+//! them.
 
 mod affine;
 mod convert;
@@ -25,6 +33,7 @@ mod entity_parser;
 mod error;
 mod global;
 mod join;
+mod limits;
 mod model;
 mod naming;
 mod param_reader;
@@ -42,23 +51,11 @@ pub use directory::DirectoryEntry;
 pub use entities::{BSplineCurveData, BSplineSurfaceData, EntityData};
 pub use error::{IgesError, ReferenceKind};
 pub use global::GlobalSection;
+pub use limits::{EXPANSION_FACTOR, EXPANSION_MINIMUM, MAX_NESTING};
 pub use model::{IgesEntity, IgesModel};
 pub use params::{parse_int, parse_real, Param, ParamValue};
 pub use parse::{parse_iges, read_iges};
 pub use tolerance::RECOGNITION_TOLERANCE;
-
-/// Deepest chain of entity references accepted, and longest chain of 124 transformation
-/// matrices (a trimmed surface of a surface of revolution of a composite of curves is 4
-/// deep; real files stay far below this).
-pub const MAX_NESTING: usize = 64;
-
-/// Conversion visits an entity once per path of references that reaches it; it may visit
-/// at most this many times the file's Parameter Data records (plus [`EXPANSION_MINIMUM`]).
-/// Real files reference each entity from one or two parents.
-pub const EXPANSION_FACTOR: usize = 64;
-
-/// The expansion allowed whatever the file's size (small files may share a lot).
-pub const EXPANSION_MINIMUM: usize = 100_000;
 
 #[cfg(test)]
 #[path = "tests/mod_tests.rs"]

@@ -4,7 +4,10 @@
 use std::collections::BTreeMap;
 
 use super::affine::compose;
-use super::{DirectoryEntry, EntityData, GlobalSection, EXPANSION_FACTOR, EXPANSION_MINIMUM};
+use super::directory::DirectoryEntry;
+use super::entities::EntityData;
+use super::global::GlobalSection;
+use super::limits::{EXPANSION_FACTOR, EXPANSION_MINIMUM};
 
 /// One entity: its Directory Entry data and its typed parameters.
 #[derive(Debug, Clone, PartialEq)]

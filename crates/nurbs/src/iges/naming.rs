@@ -2,7 +2,7 @@
 //! unique, made unique with the DE number otherwise.
 
 use super::converter::Converted;
-use super::IgesEntity;
+use super::model::IgesEntity;
 use crate::model::GeometricEntity;
 
 /// The DE label (with `.subscript` when the subscript is not 0), if any.

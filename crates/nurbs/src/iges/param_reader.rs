@@ -2,8 +2,8 @@
 //! as it is taken and every error names the field, its line and what was found; the DE
 //! pointers read are collected for validation.
 
+use super::error::IgesError;
 use super::params::Param;
-use super::IgesError;
 use crate::basis::MAX_DEGREE;
 
 /// What a degree must be (the text of [`IgesError::Parameter`] is static).

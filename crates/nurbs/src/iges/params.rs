@@ -2,8 +2,8 @@
 //! of one parameter, IGES integers and reals, and the tokenizer that splits a character
 //! stream at the parameter and record delimiters (Hollerith strings `nH...` included).
 
+use super::error::IgesError;
 use super::sections::Record;
-use super::IgesError;
 
 /// The value of one free-format parameter, as written.
 #[derive(Debug, Clone, PartialEq)]

@@ -3,11 +3,11 @@
 
 use std::path::Path;
 
+use super::error::IgesError;
+use super::model::{IgesEntity, IgesModel};
+use super::params::ParamValue;
 use super::references::validate;
-use super::{
-    directory, entity_parser, global, param_reader, params, sections, IgesEntity, IgesError,
-    IgesModel, ParamValue,
-};
+use super::{directory, entity_parser, global, param_reader, params, sections};
 
 /// Reads and parses an IGES file.
 pub fn read_iges(path: impl AsRef<Path>) -> Result<IgesModel, IgesError> {

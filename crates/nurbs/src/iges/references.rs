@@ -2,8 +2,11 @@
 //! pointers lead to existing entities, references form no cycle and nest at most
 //! [`MAX_NESTING`] deep, transformation pointers lead to chains of 124 matrices.
 
+use super::entities::EntityData;
+use super::error::{IgesError, ReferenceKind};
+use super::limits::MAX_NESTING;
+use super::model::{IgesEntity, IgesModel};
 use super::param_reader::Reference;
-use super::{EntityData, IgesEntity, IgesError, IgesModel, ReferenceKind, MAX_NESTING};
 
 impl IgesModel {
     /// Checks that the entities' references (composite members, trimmed surfaces' surfaces

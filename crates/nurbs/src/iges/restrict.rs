@@ -2,7 +2,7 @@
 //! (split at the range's ends), and the 128 surface's control net reordered to
 //! [`NurbsSurface`]'s layout.
 
-use super::BSplineSurfaceData;
+use super::entities::BSplineSurfaceData;
 use crate::{NurbsCurve, NurbsSurface};
 
 /// The curve restricted to `[lo, hi]` when that lies strictly inside its domain (split at the

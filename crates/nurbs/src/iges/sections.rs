@@ -1,7 +1,7 @@
 //! The IGES 5.3 fixed (ASCII, 80-column) file layout: the records, their section letters
 //! (column 73) and sequence numbers (columns 74–80), and the Terminate record's counts.
 
-use super::IgesError;
+use super::error::IgesError;
 
 /// One 80-column record of the file.
 #[derive(Debug, Clone, Copy)]
