@@ -1,6 +1,6 @@
-//! Faces: a 144 trimmed surface becomes its underlying surface (a plane's patch sized to
-//! cover its boundary curves; the trimming curves are not kept), and in a 2D model each
-//! planar face becomes its model-space boundary curves.
+//! Faces bounded by curves: the boundary that the patch of a 144 trimmed plane must cover
+//! (the trimming curves themselves are not kept), and the model-space boundary curves that
+//! stand for each planar face of a 2D model.
 
 use super::affine::{compose, Affine};
 use super::converter::{geometry_error, Converted, Converter};
@@ -10,34 +10,24 @@ use super::model::IgesEntity;
 use super::plane_patch::model_plane;
 use super::tolerance::RECOGNITION_TOLERANCE;
 use crate::model::EntityGeometry;
-use crate::shapes::AnalyticShape;
 use crate::vec3::{cross, dot, norm, sub};
-use crate::NurbsSurface;
 
 impl<'a> Converter<'a> {
-    /// A surface entity in model space (`to_model` maps its parent's space there) with its
-    /// closed form when it has one. `cover`: model-space points a plane patch must cover
-    /// besides its own boundary. A 144 trimmed surface is its underlying surface.
-    pub(super) fn surface(
+    /// The model-space points the patch of a 144 trimmed surface's `carrier` must cover:
+    /// `cover` and, when the carrier is a plane, the control points of the model-space
+    /// curves of its boundaries (`placed` maps the 144's space to model space). Boundaries
+    /// only in parameter space have nothing to size the patch by.
+    pub(super) fn trimmed_cover(
         &self,
         e: &IgesEntity,
-        to_model: &Affine,
+        carrier: &IgesEntity,
+        boundaries: impl Iterator<Item = u32>,
+        placed: &Affine,
         cover: &[[f64; 3]],
-    ) -> Result<(NurbsSurface, Option<AnalyticShape>), IgesError> {
-        let EntityData::TrimmedSurface {
-            surface,
-            outer,
-            inner,
-            ..
-        } = &e.kind
-        else {
-            return self.untrimmed_surface(e, to_model, cover);
-        };
-        let placed = compose(to_model, &self.own_transform(e));
-        let carrier = self.child(*surface, e)?;
+    ) -> Result<Vec<[f64; 3]>, IgesError> {
         let mut cover = cover.to_vec();
         if matches!(carrier.kind, EntityData::Plane { .. }) {
-            for &de in outer.iter().chain(inner) {
+            for de in boundaries {
                 let boundary = self.child(de, e)?;
                 if let EntityData::CurveOnSurface {
                     model_curve: None, ..
@@ -45,14 +35,14 @@ impl<'a> Converter<'a> {
                 {
                     continue; // parameter-space only: nothing to size the patch by
                 }
-                for c in self.curve_entities(boundary, &placed, "")? {
+                for c in self.curve_entities(boundary, placed, "")? {
                     if let EntityGeometry::Curve(c) = c.geometry {
                         cover.extend_from_slice(&c.control_points);
                     }
                 }
             }
         }
-        self.surface(carrier, &placed, &cover)
+        Ok(cover)
     }
 
     /// Whether the independent surfaces make a 2D model: there is at least one, each is a

@@ -1,6 +1,7 @@
-//! Untrimmed surface entities as exact NURBS in model space: 108 plane patches, 120 surfaces
-//! of revolution and 122 tabulated cylinders (with their closed forms: sphere, torus,
-//! cylinder) and 128 B-spline surfaces on their parameter ranges.
+//! Surface entities as exact NURBS in model space: 108 plane patches, 120 surfaces of
+//! revolution and 122 tabulated cylinders (with their closed forms: sphere, torus, cylinder),
+//! 128 B-spline surfaces on their parameter ranges, and 144 trimmed surfaces as their
+//! underlying surface.
 
 use std::f64::consts::TAU;
 
@@ -19,11 +20,10 @@ use crate::vec3::{add, cross, distance, dot, norm, scale, sub};
 use crate::NurbsSurface;
 
 impl<'a> Converter<'a> {
-    /// An untrimmed surface entity (108, 120, 122, 128) in model space (`to_model` maps its
-    /// parent's space there) with its closed form when it has one. `cover`: model-space points
-    /// a plane patch must cover besides its own boundary. Trimmed surfaces (144) go through
-    /// [`Converter::surface`]; here they are an error like any other non-surface.
-    pub(super) fn untrimmed_surface(
+    /// A surface entity in model space (`to_model` maps its parent's space there) with its
+    /// closed form when it has one. `cover`: model-space points a plane patch must cover
+    /// besides its own boundary.
+    pub(super) fn surface(
         &self,
         e: &IgesEntity,
         to_model: &Affine,
@@ -32,6 +32,17 @@ impl<'a> Converter<'a> {
         let placed = compose(to_model, &self.own_transform(e));
         let fail = |reason: String| geometry_error(e, reason);
         let (s, analytic) = match &e.kind {
+            EntityData::TrimmedSurface {
+                surface,
+                outer,
+                inner,
+                ..
+            } => {
+                let carrier = self.child(*surface, e)?;
+                let boundaries = outer.iter().chain(inner).copied();
+                let cover = self.trimmed_cover(e, carrier, boundaries, &placed, cover)?;
+                return self.surface(carrier, &placed, &cover);
+            }
             EntityData::Plane {
                 coefficients,
                 boundary,
