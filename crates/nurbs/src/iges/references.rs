@@ -49,14 +49,10 @@ impl IgesModel {
                 }
                 let d = 1 + children[node].iter().map(|&c| depth[c]).max().unwrap_or(0);
                 if d > MAX_NESTING {
-                    let e = &self.entities[node];
-                    return Err(IgesError::NestingTooDeep {
-                        line: e.line,
-                        de: e.de,
-                        entity_type: e.type_number(),
-                        max: MAX_NESTING,
-                        via: ReferenceKind::Parameter,
-                    });
+                    return Err(nesting_error(
+                        &self.entities[node],
+                        ReferenceKind::Parameter,
+                    ));
                 }
                 depth[node] = d;
                 state[node] = DONE;
@@ -134,14 +130,10 @@ fn check_transforms(model: &IgesModel) -> Result<(), IgesError> {
             on_path[k] = false;
             tail += usize::from(model.entities[k].transform.is_some());
             if tail > MAX_NESTING {
-                let e = &model.entities[k];
-                return Err(IgesError::NestingTooDeep {
-                    line: e.line,
-                    de: e.de,
-                    entity_type: e.type_number(),
-                    max: MAX_NESTING,
-                    via: ReferenceKind::Transformation,
-                });
+                return Err(nesting_error(
+                    &model.entities[k],
+                    ReferenceKind::Transformation,
+                ));
             }
             length[k] = Some(tail);
         }
@@ -166,6 +158,17 @@ fn transform_target(model: &IgesModel, e: &IgesEntity, t: u32) -> Result<usize, 
                 None => format!("DE {t}, which does not exist"),
             },
         }),
+    }
+}
+
+/// The error for `e`, whose references of kind `via` nest deeper than [`MAX_NESTING`].
+fn nesting_error(e: &IgesEntity, via: ReferenceKind) -> IgesError {
+    IgesError::NestingTooDeep {
+        line: e.line,
+        de: e.de,
+        entity_type: e.type_number(),
+        max: MAX_NESTING,
+        via,
     }
 }
 
