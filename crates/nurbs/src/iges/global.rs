@@ -1,7 +1,7 @@
 //! The Global section (IGES 5.3 §2.2.4): its delimiters, units, model scale and resolution.
 
 use super::error::IgesError;
-use super::params::{tokenize, ParamValue, Stream};
+use super::params::{tokenize, Param, ParamValue, Stream};
 use super::sections::Record;
 
 /// The Global section (IGES 5.3 §2.2.4). Fields missing at the end of the section take their
@@ -164,45 +164,30 @@ pub(crate) fn parse_global(records: &[Record<'_>]) -> Result<GlobalSection, Iges
     } else {
         tokenize(&s, pos, pdelim, rdelim, "Global section")?
     };
-    // params[0] is field 3
-    let last_line = records.last().map_or(line0, |r| r.line);
-    let get = |field: usize| params.get(field - 3);
-    let string = |field: usize, name: &str| -> Result<String, IgesError> {
-        match get(field) {
-            None => Ok(String::new()),
-            Some(p) => p
-                .as_str()
-                .map(str::to_string)
-                .ok_or_else(|| IgesError::Syntax {
-                    line: p.line,
-                    expected: format!("Global field {field} ({name}): a Hollerith string"),
-                    found: p.describe(),
-                }),
-        }
+    let string = |field: usize, name: &str| {
+        let read = |p: &Param| p.as_str().map(str::to_string);
+        global_field(
+            &params,
+            field,
+            name,
+            String::new(),
+            read,
+            "a Hollerith string",
+        )
     };
-    let int = |field: usize, name: &str, default: i64| -> Result<i64, IgesError> {
-        match get(field) {
-            None => Ok(default),
-            Some(p) if p.value == ParamValue::Empty => Ok(default),
-            Some(p) => p.as_int().ok_or_else(|| IgesError::Syntax {
-                line: p.line,
-                expected: format!("Global field {field} ({name}): an integer"),
-                found: p.describe(),
-            }),
-        }
+    let int = |field: usize, name: &str, default: i64| {
+        global_field(&params, field, name, default, Param::as_int, "an integer")
     };
-    let real = |field: usize, name: &str, default: f64| -> Result<f64, IgesError> {
-        match get(field) {
-            None => Ok(default),
-            Some(p) if p.value == ParamValue::Empty => Ok(default),
-            Some(p) => p.as_real().ok_or_else(|| IgesError::Syntax {
-                line: p.line,
-                expected: format!("Global field {field} ({name}): a real number"),
-                found: p.describe(),
-            }),
-        }
+    let real = |field: usize, name: &str, default: f64| {
+        global_field(
+            &params,
+            field,
+            name,
+            default,
+            Param::as_real,
+            "a real number",
+        )
     };
-    let _ = last_line;
     let max_coordinate = real(20, "maximum coordinate value", 0.0)?;
     Ok(GlobalSection {
         parameter_delimiter: pdelim as char,
@@ -232,4 +217,25 @@ pub(crate) fn parse_global(records: &[Record<'_>]) -> Result<GlobalSection, Iges
         modified_date: string(25, "date of modification")?,
         application_protocol: string(26, "application protocol")?,
     })
+}
+
+/// Global field `field` (1-based; `params` begins with field 3) as read by `read`, which
+/// must give a `kind`; `default` when the section ends before it or it is defaulted.
+fn global_field<T>(
+    params: &[Param],
+    field: usize,
+    name: &str,
+    default: T,
+    read: impl Fn(&Param) -> Option<T>,
+    kind: &str,
+) -> Result<T, IgesError> {
+    match params.get(field - 3) {
+        None => Ok(default),
+        Some(p) if p.value == ParamValue::Empty => Ok(default),
+        Some(p) => read(p).ok_or_else(|| IgesError::Syntax {
+            line: p.line,
+            expected: format!("Global field {field} ({name}): {kind}"),
+            found: p.describe(),
+        }),
+    }
 }
