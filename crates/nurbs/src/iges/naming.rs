@@ -16,7 +16,7 @@ fn label_of(e: &IgesEntity) -> Option<String> {
 }
 
 /// Names: the label when it is unique in the model, `label#DE` when several entities share
-/// it, `type#DE` without a label. Origins: "IGES entity <type> (DE <n>, line <l>)".
+/// it, `type#DE` without a label. Origins: `IGES entity <type> (DE <n>, line <l>)`.
 pub(super) fn name_entities(converted: Vec<Converted<'_>>) -> Vec<GeometricEntity> {
     let labels: Vec<Option<String>> = converted.iter().map(|c| label_of(c.entity)).collect();
     converted
