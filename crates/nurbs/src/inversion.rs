@@ -57,6 +57,23 @@ fn accept(g_new: f64, g: f64, grad_new: f64, grad: f64, size: f64) -> bool {
     g_new < g || (g_new <= g + noise && grad_new < grad)
 }
 
+/// The backtracking line search of a Newton step: the first of the step fractions
+/// λ = 1, 1/2, 1/4, ... (above 1e-12) whose trial point [`accept`] takes over the current one
+/// (half squared distance `g`, gradient norm `grad`). `trial(λ)` evaluates the point λ of the
+/// way along the step: its state, half squared distance and gradient norm. `None` when no
+/// fraction improves on the current point.
+fn line_search<T>(g: f64, grad: f64, size: f64, trial: impl Fn(f64) -> (T, f64, f64)) -> Option<T> {
+    let mut lambda = 1.0;
+    while lambda > 1e-12 {
+        let (state, g_new, grad_new) = trial(lambda);
+        if accept(g_new, g, grad_new, grad, size) {
+            return Some(state);
+        }
+        lambda *= 0.5;
+    }
+    None
+}
+
 /// The point of `curve` closest to `x`, from sampled starts.
 pub fn closest_point_on_curve(curve: &NurbsCurve, x: [f64; 3]) -> ClosestPoint<f64> {
     let starts = samples(&curve.breakpoints(), 2 * curve.degree + 2);
@@ -104,21 +121,20 @@ pub fn closest_point_on_curve_near(
         } else {
             break;
         };
-        let mut lambda = 1.0;
-        let mut moved = false;
-        while lambda > 1e-12 {
+        let trial = |lambda: f64| {
             let un = range.fit(u + lambda * step);
             let dn = curve.derivatives(un, 2);
             let rn = sub(dn[0], x);
             let gn = 0.5 * dot(rn, rn);
-            if accept(gn, g, dot(dn[1], rn).abs(), f.abs(), size) {
-                let movement = norm(sub(dn[0], d[0]));
-                (u, d, r, g) = (un, dn, rn, gn);
-                moved = movement > tol;
-                break;
-            }
-            lambda *= 0.5;
-        }
+            let grad_n = dot(dn[1], rn).abs();
+            ((un, dn, rn, gn), gn, grad_n)
+        };
+        let Some((un, dn, rn, gn)) = line_search(g, f.abs(), size, trial) else {
+            break;
+        };
+        let movement = norm(sub(dn[0], d[0]));
+        (u, d, r, g) = (un, dn, rn, gn);
+        let moved = movement > tol;
         if !moved {
             break;
         }
@@ -228,9 +244,7 @@ pub fn closest_point_on_surface_near(
             });
         let Some(step) = step else { break };
         let grad_norm = grad[0].hypot(grad[1]);
-        let mut lambda = 1.0;
-        let mut moved = false;
-        while lambda > 1e-12 {
+        let trial = |lambda: f64| {
             let un = [
                 range_u.fit(uv[0] + lambda * step[0]),
                 range_v.fit(uv[1] + lambda * step[1]),
@@ -238,14 +252,15 @@ pub fn closest_point_on_surface_near(
             let dn = surface.derivatives(un[0], un[1]);
             let rn = sub(dn.point, x);
             let gn = 0.5 * dot(rn, rn);
-            if accept(gn, g, dot(dn.du, rn).hypot(dot(dn.dv, rn)), grad_norm, size) {
-                let movement = norm(sub(dn.point, d.point));
-                (uv, d, r, g) = (un, dn, rn, gn);
-                moved = movement > tol;
-                break;
-            }
-            lambda *= 0.5;
-        }
+            let grad_n = dot(dn.du, rn).hypot(dot(dn.dv, rn));
+            ((un, dn, rn, gn), gn, grad_n)
+        };
+        let Some((un, dn, rn, gn)) = line_search(g, grad_norm, size, trial) else {
+            break;
+        };
+        let movement = norm(sub(dn.point, d.point));
+        (uv, d, r, g) = (un, dn, rn, gn);
+        let moved = movement > tol;
         if !moved {
             break;
         }

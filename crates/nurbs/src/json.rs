@@ -153,36 +153,29 @@ struct Document {
     entities: Vec<Value>,
 }
 
-/// `[x, y, z]`.
+/// A point `[x, y, z]`; with `XY`, also `[x, y]` (z = 0) for planar input.
 #[derive(Deserialize, Clone, Copy)]
 #[serde(try_from = "Vec<f64>")]
-struct Point3([f64; 3]);
+struct Point<const XY: bool>([f64; 3]);
 
-impl TryFrom<Vec<f64>> for Point3 {
-    type Error = String;
-    fn try_from(v: Vec<f64>) -> Result<Self, String> {
-        match v[..] {
-            [x, y, z] => Ok(Self([x, y, z])),
-            _ => Err(format!("expected [x, y, z], got {} numbers", v.len())),
-        }
-    }
-}
+/// `[x, y, z]`.
+type Point3 = Point<false>;
 
 /// `[x, y]` (z = 0) or `[x, y, z]`.
-#[derive(Deserialize, Clone, Copy)]
-#[serde(try_from = "Vec<f64>")]
-struct Point2or3([f64; 3]);
+type Point2or3 = Point<true>;
 
-impl TryFrom<Vec<f64>> for Point2or3 {
+impl<const XY: bool> TryFrom<Vec<f64>> for Point<XY> {
     type Error = String;
     fn try_from(v: Vec<f64>) -> Result<Self, String> {
+        let expected = if XY {
+            "[x, y] or [x, y, z]"
+        } else {
+            "[x, y, z]"
+        };
         match v[..] {
-            [x, y] => Ok(Self([x, y, 0.0])),
+            [x, y] if XY => Ok(Self([x, y, 0.0])),
             [x, y, z] => Ok(Self([x, y, z])),
-            _ => Err(format!(
-                "expected [x, y] or [x, y, z], got {} numbers",
-                v.len()
-            )),
+            _ => Err(format!("expected {expected}, got {} numbers", v.len())),
         }
     }
 }

@@ -3,12 +3,15 @@
 //! answers.
 
 use super::*;
-use crate::iges::constructions::{
-    circular_arc, concatenate, elevate, from_homogeneous, line_segment, to_homogeneous, Homogeneous,
-};
+use crate::iges::curve_primitives::{circular_arc, line_segment};
+use crate::iges::join::{concatenate, elevate, from_homogeneous, to_homogeneous, Homogeneous};
 use crate::iges::parse_iges;
 use crate::iges::tests::{build, ent, fixture, E, GLOBAL};
-use std::f64::consts::PI;
+use crate::model::GeometricEntity;
+use crate::shapes::AnalyticShape;
+use crate::vec3::norm;
+use crate::NurbsSurface;
+use std::f64::consts::{PI, TAU};
 
 /// Deterministic pseudo-random numbers in [0, 1) (a 64-bit LCG).
 fn lcg(state: &mut u64) -> f64 {

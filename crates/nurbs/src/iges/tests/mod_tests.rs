@@ -1,6 +1,8 @@
 use std::collections::BTreeMap;
+use std::path::Path;
 
-use super::sections::{tokenize, Record, Stream};
+use super::params::{tokenize, Stream};
+use super::sections::Record;
 use super::*;
 
 pub(super) fn fixture(rel: &str) -> String {
