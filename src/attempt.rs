@@ -161,13 +161,12 @@ impl Attempt {
     ) -> Result<Self, CurveError> {
         let t = Instant::now();
         if self.mesh.family != NodeFamily::Equispaced {
-            let resampled = self.mesh.resampled(NodeFamily::Equispaced)?;
+            let mut resampled = self.mesh.resampled(NodeFamily::Equispaced)?;
             // Vertices are nodes of every family: keep them bit for bit rather than
             // through the interpolant's round-off.
-            let vertices = self.mesh.layout.num_vertices;
-            let mut nodes = resampled.nodes;
-            nodes[..vertices].copy_from_slice(&self.mesh.nodes[..vertices]);
-            self.mesh = HighOrderMesh { nodes, ..resampled };
+            let vertices = self.mesh.layout().num_vertices();
+            resampled.nodes[..vertices].copy_from_slice(&self.mesh.nodes[..vertices]);
+            self.mesh = resampled;
             self.straight =
                 HighOrderMesh::from_linear(linear, options.order, NodeFamily::Equispaced)?.nodes;
         }

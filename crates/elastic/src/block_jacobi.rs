@@ -41,13 +41,13 @@ pub(crate) struct BlockJacobi {
 /// the layout does not describe the mesh's nodes.
 pub(crate) fn entity_node_cuts(mesh: &HighOrderMesh) -> Vec<usize> {
     let nodes = mesh.nodes.len();
-    let layout = &mesh.layout;
-    let mut cuts: Vec<usize> = (0..=layout.num_vertices).collect();
+    let layout = mesh.layout();
+    let mut cuts: Vec<usize> = (0..=layout.num_vertices()).collect();
     if mesh.order >= 2 {
-        cuts.extend((1..=layout.num_edges).map(|e| layout.edge_first_node(e, mesh.order)));
+        cuts.extend((1..=layout.num_edges()).map(|e| layout.edge_first_node(e, mesh.order)));
     }
-    cuts.extend(layout.face_first_node.iter().map(|&f| f as usize));
-    cuts.extend(layout.cell_first_node.iter().map(|&c| c as usize));
+    cuts.extend(layout.face_first_nodes().iter().map(|&f| f as usize));
+    cuts.extend(layout.cell_first_nodes().iter().map(|&c| c as usize));
     let consistent = cuts.windows(2).all(|w| w[0] <= w[1]) && cuts.last() == Some(&nodes);
     if !consistent {
         return (0..=nodes).collect();

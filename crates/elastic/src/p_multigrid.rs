@@ -138,8 +138,8 @@ impl<'a> PMultigrid<'a> {
         // Only a mesh whose layout describes its nodes (always, unless built by hand) gets
         // coarser levels: without them the preconditioner degrades, the solve stays correct.
         let layout_ok = mesh.expected_node_count() == mesh.nodes.len()
-            && mesh.layout.num_edges == mesh.topology.edges.len()
-            && mesh.layout.num_vertices <= mesh.nodes.len();
+            && mesh.layout().num_edges() == mesh.topology().edges.len()
+            && mesh.layout().num_vertices() <= mesh.nodes.len();
         for q in level_orders(mesh.order).into_iter().skip(1) {
             let Some(coarse) = layout_ok.then(|| mesh.straight_of_order(q).ok()).flatten() else {
                 break;
@@ -259,19 +259,19 @@ fn same_entity_node(from: &HighOrderMesh, to: &HighOrderMesh, n: usize) -> Optio
 }
 
 fn same_entity_node_unchecked(from: &HighOrderMesh, to: &HighOrderMesh, n: usize) -> Option<usize> {
-    let (lf, lt) = (&from.layout, &to.layout);
-    if n < lf.num_vertices {
+    let (lf, lt) = (from.layout(), to.layout());
+    if n < lf.num_vertices() {
         return Some(n);
     }
     let edge_nodes = from.order.saturating_sub(1);
-    let edges_end = lf.num_vertices + lf.num_edges * edge_nodes;
+    let edges_end = lf.num_vertices() + lf.num_edges() * edge_nodes;
     if n < edges_end {
-        let e = (n - lf.num_vertices) / edge_nodes;
+        let e = (n - lf.num_vertices()) / edge_nodes;
         return (to.order >= 2).then(|| lt.edge_first_node(e, to.order));
     }
     for (first_from, first_to) in [
-        (&lf.face_first_node, &lt.face_first_node),
-        (&lf.cell_first_node, &lt.cell_first_node),
+        (lf.face_first_nodes(), lt.face_first_nodes()),
+        (lf.cell_first_nodes(), lt.cell_first_nodes()),
     ] {
         let end = first_from.last().map_or(0, |&e| e as usize);
         if n < end {

@@ -181,16 +181,18 @@ fn progress_reports_the_last_iteration_of_a_solve_that_does_not_converge() {
 }
 
 #[test]
-fn a_hand_built_mesh_with_a_wrong_layout_is_still_solved() {
-    // The layout claims one vertex more than the mesh has: the p-multigrid hierarchy
-    // cannot be built, CG must still converge (on the smoother alone), not panic.
+fn a_hand_built_mesh_whose_layout_misses_a_node_is_still_solved() {
+    // A node added by hand, outside every cell and held fixed: the layout no longer
+    // describes the nodes, so the p-multigrid hierarchy cannot be built; CG must still
+    // converge (on the smoother alone), not panic.
     let mut mesh = high_order(
         &unit_cube(2, Fill::Tet(Kuhn::Paired), 0.2),
         3,
         NodeFamily::Fekete,
     );
-    mesh.layout.num_vertices += 1;
-    let bc = clamped_and_pushed(&mesh);
+    let mut bc = clamped_and_pushed(&mesh);
+    bc.prescribed.insert(mesh.nodes.len() as u32, [0.0; 3]);
+    mesh.nodes.push([2.0, 2.0, 2.0]);
     let solution = solve(&mesh, &bc, SolverKind::Cg);
     assert!(solution.relative_residual <= 1e-10);
 }

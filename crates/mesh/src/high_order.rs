@@ -29,23 +29,46 @@ pub struct HighOrderElement {
     pub entity: i32,
 }
 
-/// Where each entity's nodes start in the global numbering.
+/// Where each entity's nodes start in the global numbering: the vertices first, then the
+/// interior nodes of each edge, each face and each cell, entity by entity. Built with the
+/// mesh and read through accessors, so that its storage can change without its users.
 #[derive(Debug, Clone, PartialEq, Eq, Default)]
 pub struct NodeLayout {
     /// Number of vertices V (nodes `0..V`).
-    pub num_vertices: usize,
+    pub(crate) num_vertices: usize,
     /// Number of unique edges E; edge e owns nodes `V + e(p−1) ..`.
-    pub num_edges: usize,
+    pub(crate) num_edges: usize,
     /// First node of each face's interior (3D; `len = F + 1`, the last entry ends the range).
-    pub face_first_node: Vec<u32>,
+    pub(crate) face_first_node: Vec<u32>,
     /// First node of each cell's interior (`len = C + 1`).
-    pub cell_first_node: Vec<u32>,
+    pub(crate) cell_first_node: Vec<u32>,
 }
 
 impl NodeLayout {
-    /// First interior node of edge `e`.
+    /// Number of vertices V: nodes `0..V` are the vertices.
+    pub fn num_vertices(&self) -> usize {
+        self.num_vertices
+    }
+
+    /// Number of unique edges E.
+    pub fn num_edges(&self) -> usize {
+        self.num_edges
+    }
+
+    /// First interior node of edge `e`: V + e(p − 1).
     pub fn edge_first_node(&self, e: usize, order: usize) -> usize {
         self.num_vertices + e * (order - 1)
+    }
+
+    /// First interior node of each face (3D), then the end of the last face's range:
+    /// face f owns nodes `first[f]..first[f + 1]`.
+    pub fn face_first_nodes(&self) -> &[u32] {
+        &self.face_first_node
+    }
+
+    /// First interior node of each cell, then the end of the last cell's range.
+    pub fn cell_first_nodes(&self) -> &[u32] {
+        &self.cell_first_node
     }
 }
 
@@ -71,13 +94,23 @@ pub struct HighOrderMesh {
     pub physical_groups: Vec<PhysicalGroup>,
     /// Physical tags of each geometric entity, as in the linear mesh.
     pub entity_physicals: BTreeMap<(usize, i32), Vec<i32>>,
-    /// Edges and faces of the underlying linear mesh.
-    pub topology: Topology,
-    /// Global node numbering.
-    pub layout: NodeLayout,
+    /// Edges and faces of the underlying linear mesh ([`HighOrderMesh::topology`]).
+    pub(crate) topology: Topology,
+    /// Global node numbering ([`HighOrderMesh::layout`]).
+    pub(crate) layout: NodeLayout,
 }
 
 impl HighOrderMesh {
+    /// Edges and faces of the underlying linear mesh, and which cells share them.
+    pub fn topology(&self) -> &Topology {
+        &self.topology
+    }
+
+    /// Where each vertex, edge, face and cell's nodes sit in the global numbering.
+    pub fn layout(&self) -> &NodeLayout {
+        &self.layout
+    }
+
     /// Places the straight-sided order-`order` nodes of `family` on every element of `mesh`.
     pub fn from_linear(
         mesh: &LinearMesh,

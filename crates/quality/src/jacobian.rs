@@ -212,11 +212,38 @@ pub fn scaled_ratio(min: f64, max: f64) -> f64 {
     }
 }
 
+/// Checks that `cell` (number `element`) has the node count of a complete order-p element
+/// and node ids in range.
+fn check_nodes(
+    mesh: &HighOrderMesh,
+    element: usize,
+    cell: &HighOrderElement,
+) -> Result<(), QualityError> {
+    let (shape, count) = (cell.kind, mesh.nodes.len());
+    let expected = shape.num_nodes(mesh.order);
+    if cell.nodes.len() != expected {
+        return Err(QualityError::WrongNodeCount {
+            element,
+            shape,
+            order: mesh.order,
+            expected,
+            found: cell.nodes.len(),
+        });
+    }
+    match cell.nodes.iter().find(|&&n| n as usize >= count) {
+        Some(&node) => Err(QualityError::NodeOutOfRange {
+            element,
+            node: node as usize,
+            count,
+        }),
+        None => Ok(()),
+    }
+}
+
 /// Checks every cell of `mesh` (supported shape of the mesh's dimension, node count of a
 /// complete order-p element, node ids in range) and returns the set of shapes present.
 pub(crate) fn check_cells(mesh: &HighOrderMesh) -> Result<Vec<Shape>, QualityError> {
     let mut shapes = Vec::new();
-    let count = mesh.nodes.len();
     for (element, cell) in mesh.cells.iter().enumerate() {
         let shape = cell.kind;
         if shape.dim() != mesh.dim {
@@ -226,23 +253,7 @@ pub(crate) fn check_cells(mesh: &HighOrderMesh) -> Result<Vec<Shape>, QualityErr
                 dim: mesh.dim,
             });
         }
-        let expected = shape.num_nodes(mesh.order);
-        if cell.nodes.len() != expected {
-            return Err(QualityError::WrongNodeCount {
-                element,
-                shape,
-                order: mesh.order,
-                expected,
-                found: cell.nodes.len(),
-            });
-        }
-        if let Some(&node) = cell.nodes.iter().find(|&&n| n as usize >= count) {
-            return Err(QualityError::NodeOutOfRange {
-                element,
-                node: node as usize,
-                count,
-            });
-        }
+        check_nodes(mesh, element, cell)?;
         if !shapes.contains(&shape) {
             shapes.push(shape);
         }
@@ -323,23 +334,7 @@ pub fn jacobian_determinants(
             count: mesh.cells.len(),
         })?;
     let shape = cell.kind;
-    let expected = shape.num_nodes(mesh.order);
-    if cell.nodes.len() != expected {
-        return Err(QualityError::WrongNodeCount {
-            element,
-            shape,
-            order: mesh.order,
-            expected,
-            found: cell.nodes.len(),
-        });
-    }
-    if let Some(&node) = cell.nodes.iter().find(|&&n| n as usize >= mesh.nodes.len()) {
-        return Err(QualityError::NodeOutOfRange {
-            element,
-            node: node as usize,
-            count: mesh.nodes.len(),
-        });
-    }
+    check_nodes(mesh, element, cell)?;
     let sampler = JacobianSampler::at_points(shape, mesh.order, mesh.family, reference_points)?;
     let mut coords = Vec::new();
     gather(mesh, cell, &mut coords);

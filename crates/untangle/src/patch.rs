@@ -120,7 +120,7 @@ type PatchResult = (Vec<u32>, Vec<[f64; 3]>, f64, usize);
 
 /// `elements` and `rings` layers of cells sharing a vertex with them, as a mask.
 fn patch_cells(mesh: &HighOrderMesh, elements: &[usize], rings: usize) -> Vec<bool> {
-    let vertices = mesh.layout.num_vertices;
+    let vertices = mesh.layout().num_vertices();
     let mut vertex_cells: Vec<Vec<u32>> = vec![Vec::new(); vertices];
     if rings > 0 {
         for (c, cell) in mesh.cells.iter().enumerate() {

@@ -244,7 +244,7 @@ pub fn place_boundary_nodes_with(
         .map(|(x, _)| x[0])
         .collect();
     let edge_ids: HashMap<[u32; 2], usize> = mesh
-        .topology
+        .topology()
         .edges
         .iter()
         .enumerate()
@@ -260,7 +260,7 @@ pub fn place_boundary_nodes_with(
                     "edge {key:?} of a curved facet is not a mesh edge"
                 ))
             })?;
-            let first = mesh.layout.edge_first_node(e, order);
+            let first = mesh.layout().edge_first_node(e, order);
             Ok(line_fractions
                 .iter()
                 .enumerate()

@@ -252,8 +252,8 @@ fn discrete_tangent(mesh: &HighOrderMesh, t: &BoundaryTargets, from: u32, to: u3
         .iter()
         .map(|(x, _)| x[0])
         .collect();
-    let e = mesh.topology.find_edge(from, to).expect("edge");
-    let first = mesh.layout.edge_first_node(e, p) as u32;
+    let e = mesh.topology().find_edge(from, to).expect("edge");
+    let first = mesh.layout().edge_first_node(e, p) as u32;
     // Nodes from `from`: fractions from the lower vertex, flipped if `from` is the higher.
     let mut nodes: Vec<(f64, [f64; 3])> = vec![(0.0, t.targets[&from]), (1.0, t.targets[&to])];
     for (k, &f) in line.iter().enumerate() {
@@ -342,8 +342,8 @@ fn a_thin_spherical_triangle_gets_its_small_angle_opened_to_the_limit() {
         assert!(other_after < other_before && other_after > 10.0);
         // Edges away from the small angle are untouched: the nodes of BC, AD and DB agree.
         for (u, v) in [(b, c), (a, d), (d, b)] {
-            let e = mesh.topology.find_edge(u, v).expect("edge");
-            let first = mesh.layout.edge_first_node(e, p) as u32;
+            let e = mesh.topology().find_edge(u, v).expect("edge");
+            let first = mesh.layout().edge_first_node(e, p) as u32;
             for n in first..first + p as u32 - 1 {
                 assert_eq!(on.targets[&n], off.targets[&n]);
             }

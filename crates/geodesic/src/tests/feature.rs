@@ -156,8 +156,8 @@ fn check_rim(mesh: &HighOrderMesh, t: &BoundaryTargets, n: usize, slope: f64) ->
     for i in 0..n {
         let (u, v) = ((1 + i) as u32, (1 + (i + 1) % n) as u32);
         let (a, b) = (u.min(v), u.max(v));
-        let e = mesh.topology.find_edge(a, b).expect("rim edge");
-        let first = mesh.layout.edge_first_node(e, p) as u32;
+        let e = mesh.topology().find_edge(a, b).expect("rim edge");
+        let first = mesh.layout().edge_first_node(e, p) as u32;
         let angle_of = |x: [f64; 3]| x[1].atan2(x[0]);
         let (ta, mut tb) = (angle_of(t.targets[&a]), angle_of(t.targets[&b]));
         // The short way from a to b.

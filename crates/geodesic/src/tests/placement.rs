@@ -106,9 +106,9 @@ fn edge_nodes_are_computed_once_and_agree_with_either_orientation() {
         reversed.reverse();
         assert_eq!(first.1, reversed);
         // The mesh numbers them from the lower vertex, at the reference 1D distribution.
-        let e = mesh.topology.find_edge(key[0], key[1]).unwrap();
+        let e = mesh.topology().find_edge(key[0], key[1]).unwrap();
         let from_lower: Vec<u32> = (0..p as u32 - 1)
-            .map(|k| mesh.layout.edge_first_node(e, p) as u32 + k)
+            .map(|k| mesh.layout().edge_first_node(e, p) as u32 + k)
             .collect();
         let seen_from_lower = if first.0 == key[0] {
             &first.1

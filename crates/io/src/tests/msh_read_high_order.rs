@@ -33,7 +33,7 @@ fn our_msh_files_read_back_bitwise_for_every_shape_and_order() {
             assert_eq!(facet_bits(&back), facet_bits(&mesh), "{name} p={p}");
             // Our files number nodes like from_linear: the mesh comes back as it was.
             assert_eq!(back.cells, mesh.cells, "{name} p={p}");
-            assert_eq!(back.layout, mesh.layout);
+            assert_eq!(back.layout(), mesh.layout());
         }
     }
 }
