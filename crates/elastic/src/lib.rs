@@ -1,7 +1,7 @@
 //! High-order linear elasticity (the paper's Sect. 2, 3.2): spreads the boundary displacement
 //! of curved walls into the domain so that the elements next to them stay valid.
 //!
-//! The unknown is the displacement of every node of a [`HighOrderMesh`], discretised with
+//! The unknown is the displacement of every node of a [`HighOrderMesh`](hocurve_mesh::HighOrderMesh), discretised with
 //! continuous isoparametric Lagrange elements of the mesh's order on every element type
 //! ([`assemble_stiffness`]). Boundary nodes are prescribed or slide along a wall
 //! ([`BoundaryConditions`]); the condensed system is solved by conjugate gradients preconditioned

@@ -20,7 +20,8 @@
 use hocurve_nodes::Shape;
 use nalgebra::DMatrix;
 
-use crate::QualityError;
+use crate::bernstein_subdivision::subdivision_matrix;
+use crate::{BernsteinSubdivision, QualityError};
 
 /// Largest degree per variable (1D factor) accepted.
 pub const MAX_LINE_DEGREE: usize = 40;
@@ -37,26 +38,6 @@ pub struct BernsteinSpace {
     factors: Vec<(usize, Vec<f64>)>,
     /// ‖M⁻¹‖∞ of the whole conversion (product of the factors' norms).
     inverse_norm: f64,
-}
-
-/// Exact subdivision of the Bernstein form on the shapes with a product structure
-/// (quadrilateral, hexahedron, prism): the coefficients of f∘A on each child A of one
-/// refinement, from those of f, without sampling. Each child's map is a product of one
-/// sub-element per factor (a half of [0, 1]; one of the 4 midpoint triangles), so its
-/// subdivision matrix is the Kronecker product of one matrix per factor, applied one factor
-/// at a time like the conversion. The factor matrices come from the blossom (de Casteljau
-/// with the child's vertices as arguments): their entries are non-negative, each row sums
-/// to 1, and with midpoint children they are dyadic rationals times binomials, exact in
-/// f64 at the degrees allowed here, so a subdivision adds rounding of at most (m ε) · max|c|
-/// per factor of length m and never amplifies errors.
-#[derive(Debug, Clone)]
-pub struct BernsteinSubdivision {
-    /// Per child: per factor, (storage axis, row-major m×m matrix index into `matrices`).
-    children: Vec<Vec<(usize, usize)>>,
-    matrices: Vec<Vec<f64>>,
-    dims: [usize; 3],
-    /// Storage positions of the coefficients at the vertices (the values there).
-    vertices: Vec<usize>,
 }
 
 /// Multi-indices, lattice points and basis weights of a space, without the conversion.
@@ -188,7 +169,7 @@ impl BernsteinSpace {
 
     /// The exact subdivision of this space into the children of one midpoint refinement
     /// (2^d boxes; for the prism the 4 midpoint triangles times the 2 halves in ζ, triangle
-    /// children in the order of [`crate::validity`]'s refinement), or None for simplices and
+    /// children in the order of [`crate::JacobianBezier`]'s refinement), or None for simplices and
     /// the line, whose dense subdivision matrices would be large (the validity check samples
     /// det J on their sub-elements instead).
     pub fn subdivision(&self) -> Option<BernsteinSubdivision> {
@@ -277,118 +258,6 @@ impl BernsteinSpace {
         self.lattice.basis_values(xi, &mut basis);
         basis.iter().zip(coefficients).map(|(b, c)| b * c).sum()
     }
-}
-
-impl BernsteinSubdivision {
-    /// Number of children of one refinement.
-    pub fn len(&self) -> usize {
-        self.children.len()
-    }
-
-    /// Never true.
-    pub fn is_empty(&self) -> bool {
-        self.children.is_empty()
-    }
-
-    /// Storage positions of the vertex coefficients (the polynomial's values there).
-    pub fn vertices(&self) -> &[usize] {
-        &self.vertices
-    }
-
-    /// The longest factor (m in the rounding bound m ε max|c| per factor).
-    pub fn longest_factor(&self) -> usize {
-        self.dims.iter().copied().max().unwrap_or(1)
-    }
-
-    /// Number of factors applied per subdivision.
-    pub fn factors(&self) -> usize {
-        self.children.first().map_or(0, Vec::len)
-    }
-
-    /// The coefficients of child `child` into `out`, from the parent's `coefficients`
-    /// (`tmp` is scratch memory).
-    pub fn child(
-        &self,
-        child: usize,
-        coefficients: &[f64],
-        out: &mut Vec<f64>,
-        tmp: &mut Vec<f64>,
-    ) {
-        out.clear();
-        out.extend_from_slice(coefficients);
-        for &(axis, matrix) in &self.children[child] {
-            apply_along_axis(&self.matrices[matrix], self.dims, axis, out, tmp);
-        }
-    }
-}
-
-/// Replaces every fiber of `values` along storage axis `axis` by its image under the
-/// row-major m×m `matrix` (m = dims[axis]).
-pub(crate) fn apply_along_axis(
-    matrix: &[f64],
-    dims: [usize; 3],
-    axis: usize,
-    values: &mut [f64],
-    tmp: &mut Vec<f64>,
-) {
-    let m = dims[axis];
-    let stride: usize = dims[..axis].iter().product();
-    let outer = values.len() / (m * stride);
-    tmp.clear();
-    tmp.resize(2 * m, 0.0);
-    let (fiber, image) = tmp.split_at_mut(m);
-    for o in 0..outer {
-        for s in 0..stride {
-            let base = o * m * stride + s;
-            for r in 0..m {
-                fiber[r] = values[base + r * stride];
-            }
-            for (r, out) in image.iter_mut().enumerate() {
-                let row = &matrix[r * m..(r + 1) * m];
-                *out = row.iter().zip(fiber.iter()).map(|(a, b)| a * b).sum();
-            }
-            for r in 0..m {
-                values[base + r * stride] = image[r];
-            }
-        }
-    }
-}
-
-/// The row-major matrix S with d = S c, where c are the Bernstein coefficients (degree n,
-/// multi-indices `exponents` over 2 or 3 barycentric coordinates, the third 0 for a line)
-/// of f and d those of f on the sub-simplex with barycentric vertices `w`:
-/// d_β = blossom(w₀^β₀, w₁^β₁, w₂^β₂), computed by de Casteljau steps on each unit c.
-fn subdivision_matrix(exponents: &[Vec<usize>], n: usize, w: &[[f64; 3]; 3]) -> Vec<f64> {
-    let m = exponents.len();
-    let mut s = vec![0.0; m * m];
-    // A net of total degree r stored as net[b · (n + 1) + c] (a = r − b − c).
-    let side = n + 1;
-    let mut net = vec![0.0; side * side];
-    let mut next = vec![0.0; side * side];
-    for (col, alpha) in exponents.iter().enumerate() {
-        for (row, beta) in exponents.iter().enumerate() {
-            net.fill(0.0);
-            net[alpha[1] * side + alpha[2]] = 1.0;
-            let mut r = n;
-            for (k, &count) in beta.iter().enumerate() {
-                let u = w[k];
-                for _ in 0..count {
-                    // One de Casteljau step with argument u: degree r → r − 1.
-                    for b in 0..r {
-                        for c in 0..r - b {
-                            next[b * side + c] = u[0] * net[b * side + c]
-                                + u[1] * net[(b + 1) * side + c]
-                                + u[2] * net[b * side + c + 1];
-                        }
-                    }
-                    std::mem::swap(&mut net, &mut next);
-                    r -= 1;
-                }
-            }
-            s[row * m + col] = net[0];
-        }
-    }
-    s
 }
 
 /// Degree of det J for order-p isoparametric elements, as (degree, degree_z):
@@ -620,6 +489,38 @@ fn infinity_norm(matrix: &[f64], m: usize) -> f64 {
         .chunks(m)
         .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
         .fold(0.0, f64::max)
+}
+
+/// Replaces every fiber of `values` along storage axis `axis` by its image under the
+/// row-major m×m `matrix` (m = dims[axis]).
+pub(crate) fn apply_along_axis(
+    matrix: &[f64],
+    dims: [usize; 3],
+    axis: usize,
+    values: &mut [f64],
+    tmp: &mut Vec<f64>,
+) {
+    let m = dims[axis];
+    let stride: usize = dims[..axis].iter().product();
+    let outer = values.len() / (m * stride);
+    tmp.clear();
+    tmp.resize(2 * m, 0.0);
+    let (fiber, image) = tmp.split_at_mut(m);
+    for o in 0..outer {
+        for s in 0..stride {
+            let base = o * m * stride + s;
+            for r in 0..m {
+                fiber[r] = values[base + r * stride];
+            }
+            for (r, out) in image.iter_mut().enumerate() {
+                let row = &matrix[r * m..(r + 1) * m];
+                *out = row.iter().zip(fiber.iter()).map(|(a, b)| a * b).sum();
+            }
+            for r in 0..m {
+                values[base + r * stride] = image[r];
+            }
+        }
+    }
 }
 
 #[cfg(test)]

@@ -31,6 +31,7 @@
 
 mod assessment;
 mod bernstein;
+mod bernstein_subdivision;
 mod bezier_map;
 mod error;
 mod jacobian;
@@ -44,9 +45,10 @@ mod validity;
 
 pub use assessment::{assess, MeshQuality, QualityOptions};
 pub use bernstein::{
-    bezier_check_supported, jacobian_degree, BernsteinSpace, BernsteinSubdivision,
-    MAX_DENSE_COEFFICIENTS, MAX_LINE_DEGREE,
+    bezier_check_supported, jacobian_degree, BernsteinSpace, MAX_DENSE_COEFFICIENTS,
+    MAX_LINE_DEGREE,
 };
+pub use bernstein_subdivision::BernsteinSubdivision;
 pub use error::QualityError;
 pub use jacobian::{
     jacobian_determinants, scaled_jacobian, scaled_ratio, JacobianSampler, JacobianWorkspace,
