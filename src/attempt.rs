@@ -5,12 +5,16 @@
 
 use std::time::Instant;
 
-use hocurve_elastic::{solve_displacement_stiffened, solve_displacement_with_progress, SolverKind};
+use hocurve_elastic::{
+    solve_displacement_stiffened, solve_displacement_with_progress, BoundaryConditions,
+    ElasticSolution, SolverKind,
+};
 use hocurve_geodesic::{place_boundary_nodes_with, project_nodes_onto_geometry, PlacementOptions};
 use hocurve_mesh::{HighOrderMesh, LinearMesh};
 use hocurve_nodes::NodeFamily;
 use hocurve_quality::MeshQuality;
 
+use crate::active_region::{solve_in_active_region, RegionSolution, SolveRegion};
 use crate::boundary_conditions::boundary_conditions;
 use crate::certification::{assess_certified, invalid_elements};
 use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, Step};
@@ -44,6 +48,10 @@ pub(crate) struct Attempt {
     pub(crate) sliding_nodes: usize,
     /// Solver name, iterations, unknowns, relative residual.
     pub(crate) solve: (String, usize, usize, f64),
+    /// Cells in the elastic solve.
+    pub(crate) solve_cells: usize,
+    /// Elastic solves run (regions tried).
+    pub(crate) solves: usize,
     /// The straight-sided positions of `mesh`'s nodes.
     pub(crate) straight: Vec<[f64; 3]>,
 }
@@ -57,6 +65,8 @@ impl Attempt {
             max_geometry_distance: 0.0,
             sliding_nodes: 0,
             solve: (String::from("none"), 0, 0, 0.0),
+            solve_cells: 0,
+            solves: 0,
             straight: straight.nodes.clone(),
         }
     }
@@ -95,34 +105,57 @@ impl Attempt {
             let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
             attempt.sliding_nodes = bc.sliding.len();
             let mut report = |p| progress(Progress::Elasticity(p));
-            let solution = match stiffening {
-                None => solve_displacement_with_progress(
-                    &mesh,
-                    &options.material,
-                    &bc,
-                    &options.solver,
-                    &mut report,
-                )?,
-                Some(stiffening) => solve_displacement_stiffened(
-                    &mesh,
-                    &options.material,
-                    stiffening,
-                    &bc,
-                    &options.solver,
-                    &mut report,
-                )?,
+            let mut solve_on = |part: &HighOrderMesh,
+                                bc: &BoundaryConditions,
+                                stiffening: Option<&[f64]>|
+             -> Result<ElasticSolution, CurveError> {
+                let solution = match stiffening {
+                    None => solve_displacement_with_progress(
+                        part,
+                        &options.material,
+                        bc,
+                        &options.solver,
+                        &mut report,
+                    )?,
+                    Some(stiffening) => solve_displacement_stiffened(
+                        part,
+                        &options.material,
+                        stiffening,
+                        bc,
+                        &options.solver,
+                        &mut report,
+                    )?,
+                };
+                let residual = solution.relative_residual;
+                if residual.is_nan() || residual > options.solver.tolerance.max(1e-8) {
+                    return Err(CurveError::NotConverged {
+                        residual: solution.relative_residual,
+                        tolerance: options.solver.tolerance,
+                        iterations: solution.iterations,
+                    });
+                }
+                timings.assembly += solution.timings.assembly;
+                timings.solve += solution.timings.solve;
+                Ok(solution)
             };
-            let residual = solution.relative_residual;
-            if residual.is_nan() || residual > options.solver.tolerance.max(1e-8) {
-                return Err(CurveError::NotConverged {
-                    residual: solution.relative_residual,
-                    tolerance: options.solver.tolerance,
-                    iterations: solution.iterations,
-                });
-            }
-            timings.assembly += solution.timings.assembly;
-            timings.solve += solution.timings.solve;
-            for (x, u) in mesh.nodes.iter_mut().zip(&solution.displacement) {
+            let region = match options.solve_region {
+                SolveRegion::Whole => {
+                    let solution = solve_on(&mesh, &bc, stiffening)?;
+                    RegionSolution {
+                        displacement: solution.displacement.clone(),
+                        solution,
+                        cells: mesh.cells.len(),
+                        solves: 1,
+                    }
+                }
+                SolveRegion::Active { cutoff } => {
+                    solve_in_active_region(&mesh, &bc, stiffening, cutoff, solve_on)?
+                }
+            };
+            attempt.solve_cells = region.cells;
+            attempt.solves = region.solves;
+            let solution = region.solution;
+            for (x, u) in mesh.nodes.iter_mut().zip(&region.displacement) {
                 for d in 0..3 {
                     x[d] += u[d];
                 }
@@ -205,6 +238,8 @@ impl Attempt {
             elements: mesh.cells.len(),
             nodes: mesh.nodes.len(),
             dofs: self.solve.2,
+            solve_cells: self.solve_cells,
+            elastic_solves: self.solves,
             curved_facets: targets.curved_facets,
             facets_by_name: association.map_or(0, |a| a.by_name),
             facets_by_proximity: association.map_or(0, |a| a.by_proximity),

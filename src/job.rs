@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use hocurve_geodesic::AssociationRule;
 use hocurve_io::IoError;
-use hocurve_mesh::{LinearMesh, MeshError};
+use hocurve_mesh::{LinearMesh, MeshError, Shape};
 use hocurve_nurbs::iges::{read_iges_geometry, IgesError};
 use hocurve_nurbs::{read_geometry_json, GeometryInputError, GeometryModel};
 use hocurve_quality::QualityError;
@@ -243,18 +243,16 @@ pub fn curve_and_write(
     // Straight-sided elements are the input's own map at a higher order: only curved
     // meshes need the check to be run before they are trusted.
     let curving = geometry.is_some();
-    let uncheckable: std::collections::BTreeSet<&str> = linear
-        .cells
-        .iter()
-        .map(|c| c.kind)
+    let shapes: std::collections::BTreeSet<Shape> = linear.cells.iter().map(|c| c.kind).collect();
+    let uncheckable: Vec<&str> = shapes
+        .into_iter()
         .filter(|&s| !hocurve_quality::bezier_check_supported(s, order))
-        .map(|s| s.name())
+        .map(Shape::name)
         .collect();
     if curving && options.curve.certify && !uncheckable.is_empty() && !options.allow_invalid {
-        let shapes: Vec<&str> = uncheckable.into_iter().collect();
         return Err(JobError::CannotCertify {
             order,
-            shapes: shapes.join(", "),
+            shapes: uncheckable.join(", "),
         });
     }
     let start = Instant::now();

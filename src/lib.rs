@@ -40,6 +40,7 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod active_region;
 mod attempt;
 mod boundary_conditions;
 mod certification;

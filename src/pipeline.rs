@@ -16,6 +16,8 @@
 use std::time::Instant;
 
 use hocurve_elastic::{ElasticError, Material, SolverOptions};
+
+pub use crate::active_region::SolveRegion;
 use hocurve_geodesic::{associate_boundary, AssociationRule, GeodesicError, PlacementOptions};
 use hocurve_mesh::{HighOrderMesh, LinearMesh, MeshError};
 use hocurve_nodes::{NodeFamily, NodesError};
@@ -121,6 +123,9 @@ pub struct CurveOptions {
     pub slide: Vec<String>,
     /// Move only the boundary nodes (no elastic solve).
     pub boundary_only: bool,
+    /// The cells the elastic solve covers: all (the default) or an active region around
+    /// the curved boundaries ([`SolveRegion`]).
+    pub solve_region: SolveRegion,
     /// What the quality assessment samples.
     pub quality: QualityOptions,
     /// Certify every element's validity with Bézier bounds on det J (beyond the paper)
@@ -151,6 +156,7 @@ impl CurveOptions {
             solver: SolverOptions::default(),
             slide: Vec::new(),
             boundary_only: false,
+            solve_region: SolveRegion::Whole,
             quality: QualityOptions::default(),
             certify: true,
             untangle: true,

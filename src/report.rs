@@ -42,6 +42,11 @@ pub struct CurveReport {
     pub nodes: usize,
     /// Unknowns of the elastic system after condensation (0 without a solve).
     pub dofs: usize,
+    /// Cells in the elastic solve: all of them, or the active region around the curved
+    /// boundaries (`--solve-region active`); 0 without a solve.
+    pub solve_cells: usize,
+    /// Elastic solves run for this curving: 1, or one per active region tried.
+    pub elastic_solves: usize,
     /// Boundary facets placed on the geometry.
     pub curved_facets: usize,
     /// Boundary facets associated with an entity by physical-group name.

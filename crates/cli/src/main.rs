@@ -14,7 +14,7 @@ use hocurve::elastic::{Material, SolverKind};
 use hocurve::geodesic::BoundaryNodeStrategy;
 use hocurve::job::{curve_and_write, Inputs, JobError, JobOptions, Outputs};
 use hocurve::nodes::NodeFamily;
-use hocurve::pipeline::{CurveOptions, Progress};
+use hocurve::pipeline::{CurveOptions, Progress, SolveRegion};
 use hocurve::quality::Sampling;
 use hocurve::summary::{input_line, measured_text, mesh_info, summary_table};
 
@@ -133,8 +133,11 @@ struct MethodArgs {
     /// the boundary placement.
     #[arg(long)]
     boundary_only: bool,
-    /// Skip the Bézier certification of every element's validity (det J > 0 everywhere);
-    /// the sampled scaled Jacobian alone can miss det J < 0 near a vertex or face.
+    /// Cells in the elastic solve: whole, or active (cells near curved boundaries, grown
+    /// until the displacement reaching the outermost ring is below 1e-3 of its size).
+    #[arg(long, default_value = "whole", value_name = "whole|active")]
+    solve_region: SolveRegion,
+    /// Skip the Bézier certification of every element's validity (det J > 0 everywhere).
     #[arg(long)]
     no_certify: bool,
     /// Do not repair elements the certification finds invalid (by default the mesh is solved
@@ -150,16 +153,14 @@ struct MethodArgs {
 /// Where results go (shared by `curve` and `demo`).
 #[derive(Args)]
 struct OutputArgs {
-    /// Output file: `.vtu` (VTK Lagrange cells) or `.msh` (Gmsh MSH 4.1, high order).
-    /// The displacement is written as point data, the scaled Jacobian and stretching as
-    /// cell data.
+    /// Output file: `.vtu` (VTK Lagrange cells) or `.msh` (Gmsh MSH 4.1, high order), with
+    /// the displacement as point data, the scaled Jacobian and stretching as cell data.
     #[arg(short, long)]
     output: Option<PathBuf>,
     /// Write a JSON report (sizes, solver, residual, quality, seconds per step).
     #[arg(long)]
     report: Option<PathBuf>,
-    /// Write the quality histograms as SVG into this directory
-    /// (scaled_jacobian.svg, stretching.svg).
+    /// Write the quality histograms as SVG into this directory (scaled_jacobian.svg, …).
     #[arg(long)]
     plots: Option<PathBuf>,
     /// Write the mesh (and report) even when some element is not certified valid
@@ -331,6 +332,7 @@ impl MethodArgs {
         options.solver.kind = self.solver;
         options.slide = self.slide.clone();
         options.boundary_only = self.boundary_only;
+        options.solve_region = self.solve_region;
         options.certify = !self.no_certify;
         options.untangle = !self.no_repair;
         options.stiffen = !self.no_repair;

@@ -297,10 +297,16 @@ pub fn bezier_check_supported(shape: Shape, order: usize) -> bool {
     }
 }
 
-/// Largest total degree whose dense factor fits [`MAX_DENSE_COEFFICIENTS`].
+/// Largest total degree n whose dense factor fits [`MAX_DENSE_COEFFICIENTS`]: the simplex
+/// of dimension d has C(n + d, d) Bernstein polynomials of degree n.
 fn max_dense_degree(shape: Shape) -> usize {
+    let count = |n: usize| match shape {
+        Shape::Tet => (n + 1) * (n + 2) * (n + 3) / 6,
+        Shape::Tri => (n + 1) * (n + 2) / 2,
+        _ => n + 1,
+    };
     (0..)
-        .take_while(|&n| Lattice::new(shape, n, 0).len() <= MAX_DENSE_COEFFICIENTS)
+        .take_while(|&n| count(n) <= MAX_DENSE_COEFFICIENTS)
         .last()
         .unwrap_or(0)
 }

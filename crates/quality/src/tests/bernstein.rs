@@ -190,3 +190,16 @@ fn subdivision_rows_are_convex_combinations() {
         .subdivision()
         .is_none());
 }
+
+#[test]
+fn the_largest_dense_degree_is_the_largest_lattice_that_fits() {
+    // C(24, 3) = 2024 Bernstein polynomials: degree 21 on the tetrahedron (det J at p = 8);
+    // C(64, 2) = 2016 on the triangle.
+    assert_eq!(max_dense_degree(Shape::Tet), 21);
+    assert_eq!(max_dense_degree(Shape::Tri), 62);
+    for shape in [Shape::Tri, Shape::Tet] {
+        let n = max_dense_degree(shape);
+        assert!(Lattice::new(shape, n, 0).len() <= MAX_DENSE_COEFFICIENTS);
+        assert!(Lattice::new(shape, n + 1, 0).len() > MAX_DENSE_COEFFICIENTS);
+    }
+}

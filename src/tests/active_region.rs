@@ -1,0 +1,98 @@
+use hocurve_elastic::{solve_displacement, Material, SolverOptions};
+use hocurve_nodes::NodeFamily;
+use hocurve_testmeshes::{high_order, unit_cube, Fill, Kuhn};
+
+use super::*;
+
+/// The unit cube in n³ × 6 tetrahedra at order 2, every boundary node fixed except a bump
+/// of height `amplitude` pushed into the face z = 1 around its centre (radius 0.2).
+fn cube_with_a_bump(n: usize, amplitude: f64) -> (HighOrderMesh, BoundaryConditions) {
+    let mesh = high_order(
+        &unit_cube(n, Fill::Tet(Kuhn::Paired), 0.0),
+        2,
+        NodeFamily::Fekete,
+    );
+    let mut bc = BoundaryConditions::default();
+    for (_, nodes) in mesh.boundary_facet_nodes().unwrap() {
+        for m in nodes {
+            let x = mesh.nodes[m as usize];
+            let r2 = (x[0] - 0.5).powi(2) + (x[1] - 0.5).powi(2);
+            let bump = if x[2] > 1.0 - 1e-12 && r2 < 0.04 {
+                -amplitude * (1.0 - r2 / 0.04).powi(2)
+            } else {
+                0.0
+            };
+            bc.prescribed.insert(m, [0.0, 0.0, bump]);
+        }
+    }
+    (mesh, bc)
+}
+
+fn elastic(
+    mesh: &HighOrderMesh,
+    bc: &BoundaryConditions,
+    _stiffening: Option<&[f64]>,
+) -> Result<ElasticSolution, CurveError> {
+    Ok(solve_displacement(
+        mesh,
+        &Material::default(),
+        bc,
+        &SolverOptions::default(),
+    )?)
+}
+
+fn largest_difference(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    a.iter()
+        .zip(b)
+        .flat_map(|(x, y)| (0..3).map(move |k| (x[k] - y[k]).abs()))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn a_local_bump_is_solved_on_a_region_that_matches_the_whole_solve() {
+    let (mesh, bc) = cube_with_a_bump(10, 0.002);
+    let whole = elastic(&mesh, &bc, None).unwrap();
+    let region = solve_in_active_region(&mesh, &bc, None, 1e-3, elastic).unwrap();
+    assert!(
+        region.cells < mesh.cells.len(),
+        "{} of {} cells",
+        region.cells,
+        mesh.cells.len()
+    );
+    let error = largest_difference(&region.displacement, &whole.displacement);
+    // The cut-off displacement is at most 1e-3 × h (h = √3 / 10) where the region ends.
+    assert!(
+        error < 2e-3 * 0.18,
+        "region differs from the whole solve by {error:.3e}"
+    );
+    // The prescribed nodes move exactly as prescribed, the far ones not at all.
+    for (&m, u) in &bc.prescribed {
+        assert_eq!(region.displacement[m as usize], *u);
+    }
+}
+
+#[test]
+fn the_region_grows_to_the_whole_mesh_when_no_displacement_may_reach_its_edge() {
+    let (mesh, bc) = cube_with_a_bump(4, 0.02);
+    let whole = elastic(&mesh, &bc, None).unwrap();
+    let region = solve_in_active_region(&mesh, &bc, None, 0.0, elastic).unwrap();
+    assert_eq!(region.cells, mesh.cells.len());
+    assert!(region.solves >= 1);
+    assert_eq!(region.displacement, whole.displacement);
+}
+
+#[test]
+fn nothing_moved_is_one_whole_solve() {
+    let (mesh, mut bc) = cube_with_a_bump(2, 0.0);
+    bc.prescribed.values_mut().for_each(|u| *u = [0.0; 3]);
+    let region = solve_in_active_region(&mesh, &bc, None, 1e-3, elastic).unwrap();
+    assert_eq!((region.cells, region.solves), (mesh.cells.len(), 1));
+    assert!(region.displacement.iter().all(|u| *u == [0.0; 3]));
+}
+
+#[test]
+fn solve_regions_parse_from_the_command_line() {
+    assert_eq!("whole".parse::<SolveRegion>(), Ok(SolveRegion::Whole));
+    assert_eq!("active".parse::<SolveRegion>(), Ok(SolveRegion::ACTIVE));
+    assert!("some".parse::<SolveRegion>().is_err());
+}
