@@ -236,6 +236,8 @@ pub fn curve_and_write(
     outputs: &Outputs,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<Finished, JobError> {
+    // Everything after reading counts in the total, the checks before curving included.
+    let start = Instant::now();
     let linear = &inputs.linear;
     let order = options.curve.order;
     check_memory(linear, order, options.ignore_memory_estimate)?;
@@ -255,7 +257,6 @@ pub fn curve_and_write(
             shapes: uncheckable.join(", "),
         });
     }
-    let start = Instant::now();
     let mut curved = curve_mesh(linear, geometry, &options.curve, progress)?;
     let mut defects = Vec::new();
     // The validity contract: written boundary nodes on the geometry, every element
