@@ -28,8 +28,8 @@ pub struct Estimate {
 pub fn estimate(linear: &LinearMesh, order: usize) -> Result<Estimate, MeshError> {
     let topology = Topology::new(linear)?;
     let mut nodes = linear.vertices.len() as u64
-        + topology.edges.len() as u64 * Shape::Line.num_interior_nodes(order) as u64;
-    for face in topology.faces.rows() {
+        + topology.edges().len() as u64 * Shape::Line.num_interior_nodes(order) as u64;
+    for face in topology.faces() {
         let shape = if face.len() == 4 {
             Shape::Quad
         } else {

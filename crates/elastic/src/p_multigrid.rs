@@ -138,7 +138,7 @@ impl<'a> PMultigrid<'a> {
         // Only a mesh whose layout describes its nodes (always, unless built by hand) gets
         // coarser levels: without them the preconditioner degrades, the solve stays correct.
         let layout_ok = mesh.expected_node_count() == mesh.nodes.len()
-            && mesh.layout().num_edges() == mesh.topology().edges.len()
+            && mesh.layout().num_edges() == mesh.topology().edges().len()
             && mesh.layout().num_vertices() <= mesh.nodes.len();
         for q in level_orders(mesh.order).into_iter().skip(1) {
             let Some(coarse) = layout_ok.then(|| mesh.straight_of_order(q).ok()).flatten() else {

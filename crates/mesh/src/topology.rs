@@ -45,21 +45,22 @@ pub(crate) fn face_key(vertices: &[u32]) -> [u32; 4] {
     key
 }
 
-/// Edges and faces of a mesh and their incidence with cells.
+/// Edges and faces of a mesh and their incidence with cells, read through accessors (u32
+/// ids) so that the storage can change without its users.
 #[derive(Debug, Clone, Default)]
 pub struct Topology {
     /// Unique edges, vertices sorted ascending.
-    pub edges: Vec<[u32; 2]>,
+    pub(crate) edges: Vec<[u32; 2]>,
     /// Unique faces of a 3D mesh in canonical vertex order (empty in 2D, where the cells
     /// themselves are the faces).
-    pub faces: Jagged<u32>,
+    pub(crate) faces: Jagged<u32>,
     /// Global edge id of each local edge of each cell (local order of `Shape::edges`).
-    pub cell_edges: Jagged<u32>,
+    pub(crate) cell_edges: Jagged<u32>,
     /// Global face id of each local face of each cell (local order of `Shape::faces`).
-    pub cell_faces: Jagged<u32>,
+    pub(crate) cell_faces: Jagged<u32>,
     /// The cells on either side of each facet — faces in 3D, edges in 2D; the second is
     /// [`NO_CELL`] on the boundary.
-    pub facet_cells: Vec<[u32; 2]>,
+    pub(crate) facet_cells: Vec<[u32; 2]>,
 }
 
 impl Topology {
@@ -134,6 +135,42 @@ impl Topology {
             face_cells
         };
         Ok(topo)
+    }
+
+    /// The unique edges, vertices sorted ascending (edge id = position).
+    pub fn edges(&self) -> &[[u32; 2]] {
+        &self.edges
+    }
+
+    /// The unique faces of a 3D mesh, canonical vertex order (none in 2D).
+    pub fn faces(&self) -> impl Iterator<Item = &[u32]> + '_ {
+        self.faces.rows()
+    }
+
+    /// Number of unique faces (0 in 2D).
+    pub fn num_faces(&self) -> usize {
+        self.faces.len()
+    }
+
+    /// Vertices of face `f` in canonical order.
+    pub fn face(&self, f: usize) -> &[u32] {
+        self.faces.row(f)
+    }
+
+    /// Global edge ids of cell `c`'s edges, in the local order of `Shape::edges`.
+    pub fn cell_edges(&self, c: usize) -> &[u32] {
+        self.cell_edges.row(c)
+    }
+
+    /// Global face ids of cell `c`'s faces, in the local order of `Shape::faces` (3D).
+    pub fn cell_faces(&self, c: usize) -> &[u32] {
+        self.cell_faces.row(c)
+    }
+
+    /// The cells on either side of facet `f` (face in 3D, edge in 2D); the second is
+    /// [`NO_CELL`] on the boundary.
+    pub fn facet_cells(&self, f: usize) -> [u32; 2] {
+        self.facet_cells[f]
     }
 
     /// Ids of the boundary facets (faces in 3D, edges in 2D): those with one cell.

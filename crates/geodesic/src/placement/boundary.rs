@@ -245,7 +245,7 @@ pub fn place_boundary_nodes_with(
         .collect();
     let edge_ids: HashMap<[u32; 2], usize> = mesh
         .topology()
-        .edges
+        .edges()
         .iter()
         .enumerate()
         .filter(|(_, e)| carrier_of.contains_key(*e))
