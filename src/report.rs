@@ -21,7 +21,8 @@ pub struct StepTimings {
     pub solve: f64,
     /// Quality assessment.
     pub quality: f64,
-    /// Untangling elements not certified valid (including their re-certification).
+    /// The repair of elements not certified valid: the stiffened re-solve and untangling,
+    /// each with its certification.
     pub repair: f64,
     /// Writing the output.
     pub write: f64,

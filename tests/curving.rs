@@ -604,6 +604,9 @@ fn the_repair_gives_the_same_bits_for_any_thread_count() {
     let one = run(1);
     assert_eq!(one.report.stiffened_resolve, Some(true));
     assert!(one.report.untangled_elements > 0);
+    // The stiffened solve is repair work, timed as such, not as a second solve.
+    let t = &one.report.timings;
+    assert!(t.repair > 0.0 && t.repair <= t.total, "{t:?}");
     assert_eq!(
         one.report.certified_valid_elements,
         Some(one.report.elements)
