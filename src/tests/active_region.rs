@@ -1,28 +1,35 @@
 use hocurve_elastic::{solve_displacement, Material, SolverOptions};
+use hocurve_mesh::{LinearMesh, Shape};
 use hocurve_nodes::NodeFamily;
-use hocurve_testmeshes::{high_order, unit_cube, Fill, Kuhn};
+use hocurve_testmeshes::{high_order, unit_cube, unit_square, Fill, Kuhn};
 
 use super::*;
 
 /// The unit cube in n³ × 6 tetrahedra at order 2, every boundary node fixed except a bump
 /// of height `amplitude` pushed into the face z = 1 around its centre (radius 0.2).
 fn cube_with_a_bump(n: usize, amplitude: f64) -> (HighOrderMesh, BoundaryConditions) {
-    let mesh = high_order(
-        &unit_cube(n, Fill::Tet(Kuhn::Paired), 0.0),
-        2,
-        NodeFamily::Fekete,
-    );
+    with_a_bump(&unit_cube(n, Fill::Tet(Kuhn::Paired), 0.0), 2, amplitude)
+}
+
+/// `linear` at order `order`, every boundary node fixed except a bump of height
+/// `amplitude` pushed into the side x_dim = 1 (z in 3D, y in 2D) around its centre.
+fn with_a_bump(
+    linear: &LinearMesh,
+    order: usize,
+    amplitude: f64,
+) -> (HighOrderMesh, BoundaryConditions) {
+    let mesh = high_order(linear, order, NodeFamily::Fekete);
+    let top = mesh.dim - 1;
     let mut bc = BoundaryConditions::default();
     for (_, nodes) in mesh.boundary_facet_nodes().unwrap() {
         for m in nodes {
             let x = mesh.nodes[m as usize];
-            let r2 = (x[0] - 0.5).powi(2) + (x[1] - 0.5).powi(2);
-            let bump = if x[2] > 1.0 - 1e-12 && r2 < 0.04 {
-                -amplitude * (1.0 - r2 / 0.04).powi(2)
-            } else {
-                0.0
-            };
-            bc.prescribed.insert(m, [0.0, 0.0, bump]);
+            let r2: f64 = (0..top).map(|k| (x[k] - 0.5).powi(2)).sum();
+            let mut u = [0.0; 3];
+            if x[top] > 1.0 - 1e-12 && r2 < 0.04 {
+                u[top] = -amplitude * (1.0 - r2 / 0.04).powi(2);
+            }
+            bc.prescribed.insert(m, u);
         }
     }
     (mesh, bc)
@@ -72,6 +79,26 @@ fn a_local_bump_is_solved_on_a_region_that_matches_the_whole_solve() {
 }
 
 #[test]
+fn regions_of_quadrilaterals_and_of_hexahedra_with_prisms_match_the_whole_solve() {
+    for (linear, order, h, amplitude) in [
+        (unit_square(40, Shape::Quad, 0.0), 3, 0.036, 2e-5),
+        (unit_cube(12, Fill::HexPrism, 0.0), 2, 0.15, 2e-4),
+    ] {
+        let (mesh, bc) = with_a_bump(&linear, order, amplitude);
+        let whole = elastic(&mesh, &bc, None).unwrap();
+        let region = solve_in_active_region(&mesh, &bc, None, 1e-3, elastic).unwrap();
+        assert!(
+            2 * region.cells < mesh.cells.len(),
+            "{} of {}",
+            region.cells,
+            mesh.cells.len()
+        );
+        let error = largest_difference(&region.displacement, &whole.displacement);
+        assert!(error < 1e-3 * h, "dim {}: {error:.3e}", mesh.dim);
+    }
+}
+
+#[test]
 fn the_region_grows_to_the_whole_mesh_when_no_displacement_may_reach_its_edge() {
     let (mesh, bc) = cube_with_a_bump(4, 0.02);
     let whole = elastic(&mesh, &bc, None).unwrap();
@@ -95,4 +122,29 @@ fn solve_regions_parse_from_the_command_line() {
     assert_eq!("whole".parse::<SolveRegion>(), Ok(SolveRegion::Whole));
     assert_eq!("active".parse::<SolveRegion>(), Ok(SolveRegion::ACTIVE));
     assert!("some".parse::<SolveRegion>().is_err());
+}
+
+#[test]
+fn sliding_walls_inside_the_region_slide_and_outside_stay() {
+    // The walls x = 0 and x = 1 slide in their planes instead of being fixed.
+    let (mesh, mut bc) = cube_with_a_bump(10, 0.002);
+    for (&m, u) in bc.prescribed.clone().iter() {
+        let x = mesh.nodes[m as usize][0];
+        if (x < 1e-12 || x > 1.0 - 1e-12) && *u == [0.0; 3] {
+            bc.prescribed.remove(&m);
+            bc.sliding.insert(m, [1.0, 0.0, 0.0]);
+        }
+    }
+    let whole = elastic(&mesh, &bc, None).unwrap();
+    let region = solve_in_active_region(&mesh, &bc, None, 1e-3, elastic).unwrap();
+    assert!(
+        2 * region.cells < mesh.cells.len(),
+        "{} of {}",
+        region.cells,
+        mesh.cells.len()
+    );
+    assert!(largest_difference(&region.displacement, &whole.displacement) < 1e-3 * 0.18);
+    for &m in bc.sliding.keys() {
+        assert!(region.displacement[m as usize][0].abs() < 1e-12);
+    }
 }
