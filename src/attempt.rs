@@ -127,7 +127,8 @@ impl Attempt {
                     )?,
                 };
                 let residual = solution.relative_residual;
-                if residual.is_nan() || residual > options.solver.tolerance.max(1e-8) {
+                let limit = options.solver.tolerance.max(1e-8);
+                if residual.is_nan() || (residual > limit && !solution.converged_by_displacement) {
                     return Err(CurveError::NotConverged {
                         residual: solution.relative_residual,
                         tolerance: options.solver.tolerance,

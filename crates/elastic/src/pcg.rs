@@ -1,5 +1,11 @@
 //! Preconditioned conjugate gradients (Hestenes–Stiefel with a symmetric positive definite
-//! preconditioner M ≈ A⁻¹), stopping when the updated residual has fallen by `tolerance`.
+//! preconditioner M ≈ A⁻¹), stopping when the updated residual has fallen by `tolerance`,
+//! or, when asked, when the estimated error of the solution is below an absolute bound.
+//!
+//! The error estimate: PCG contracts the error by about ρ = √(r_{k+1}ᵀz_{k+1} / r_kᵀz_k)
+//! per iteration (the preconditioned residual ratio), so what remains after the update
+//! α_k p_k is about ‖α_k p_k‖∞ ρ / (1 − ρ) (a geometric tail). ρ is capped at 0.9 so that a
+//! stalling iteration can only make the estimate larger.
 
 use crate::block_matrix::BlockOperator;
 use crate::vector_ops::{axpy, dot, norm, spmv, xpby};
@@ -64,27 +70,46 @@ pub(crate) fn pcg(
         x,
         preconditioner,
         tolerance,
+        None,
         max_iterations,
         &mut |_, _| {},
     )
+    .iterations
 }
 
-/// [`pcg`], calling `progress(iteration, ‖r‖ / ‖b‖)` after each iteration (the updated
-/// residual).
+/// How a PCG solve ended.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct PcgOutcome {
+    /// Iterations done.
+    pub iterations: usize,
+    /// True when the estimated error fell below the absolute bound before the residual
+    /// reached its tolerance.
+    pub by_error_estimate: bool,
+}
+
+/// [`pcg`], also stopping once the estimated max-norm error of x is at most
+/// `error_bound` (see the module documentation; never before the second iteration), and
+/// calling `progress(iteration, ‖r‖ / ‖b‖)` after each iteration (the updated residual).
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn pcg_with_progress(
     a: &dyn LinearOperator,
     b: &[f64],
     x: &mut [f64],
     preconditioner: &mut dyn Preconditioner,
     tolerance: f64,
+    error_bound: Option<f64>,
     max_iterations: usize,
     progress: &mut dyn FnMut(usize, f64),
-) -> usize {
+) -> PcgOutcome {
     let n = b.len();
     let b_norm = norm(b);
+    let done = |iterations, by_error_estimate| PcgOutcome {
+        iterations,
+        by_error_estimate,
+    };
     if b_norm == 0.0 {
         x.iter_mut().for_each(|v| *v = 0.0);
-        return 0;
+        return done(0, false);
     }
     let mut r = vec![0.0; n];
     a.residual(b, x, &mut r);
@@ -99,27 +124,35 @@ pub(crate) fn pcg_with_progress(
             progress(iteration - 1, r_norm / b_norm);
         }
         if r_norm <= tolerance * b_norm {
-            return iteration - 1;
+            return done(iteration - 1, false);
         }
         a.apply(&p, &mut q);
         let pq = dot(&p, &q);
         if pq.is_nan() || pq <= 0.0 {
             // A or M is not positive definite along p (or p vanished): stop, the caller
             // checks the true residual.
-            return iteration - 1;
+            return done(iteration - 1, false);
         }
         let alpha = rz / pq;
         axpy(alpha, &p, x);
         axpy(-alpha, &q, &mut r);
         preconditioner.apply(&r, &mut z);
         let rz_next = dot(&r, &z);
+        if let Some(bound) = error_bound {
+            let step = alpha.abs() * p.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+            let rho = (rz_next / rz).abs().sqrt().min(0.9);
+            if iteration >= 2 && step * rho / (1.0 - rho) <= bound {
+                progress(iteration, norm(&r) / b_norm);
+                return done(iteration, true);
+            }
+        }
         xpby(&z, rz_next / rz, &mut p);
         rz = rz_next;
     }
     if max_iterations > 0 {
         progress(max_iterations, norm(&r) / b_norm);
     }
-    max_iterations
+    done(max_iterations, false)
 }
 
 #[cfg(test)]

@@ -389,3 +389,43 @@ fn errors_are_reported() {
         "{err}"
     );
 }
+
+#[test]
+fn cg_stopped_on_the_displacement_tolerance_is_that_close_to_the_solution() {
+    let mesh = high_order(
+        &unit_cube(4, Fill::Tet(Kuhn::Paired), 0.2),
+        3,
+        NodeFamily::Fekete,
+    );
+    let bc = clamped_and_pushed(&mesh);
+    let options = |displacement_tolerance| SolverOptions {
+        kind: SolverKind::Cg,
+        tolerance: 1e-14,
+        displacement_tolerance,
+        ..Default::default()
+    };
+    let material = Material::default();
+    let exact = solve_displacement(&mesh, &material, &bc, &options(None)).unwrap();
+    assert!(!exact.converged_by_displacement);
+    for bound in [1e-5, 1e-7, 1e-9] {
+        let early = solve_displacement(&mesh, &material, &bc, &options(Some(bound))).unwrap();
+        assert!(early.converged_by_displacement, "{bound:e}");
+        assert!(
+            early.iterations < exact.iterations,
+            "{} vs {}",
+            early.iterations,
+            exact.iterations
+        );
+        let error = early
+            .displacement
+            .iter()
+            .zip(&exact.displacement)
+            .flat_map(|(u, v)| (0..3).map(move |k| (u[k] - v[k]).abs()))
+            .fold(0.0, f64::max);
+        assert!(
+            error <= bound,
+            "bound {bound:e}: error {error:.3e} after {} iterations",
+            early.iterations
+        );
+    }
+}
