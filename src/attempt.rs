@@ -7,7 +7,7 @@ use std::time::Instant;
 
 use hocurve_elastic::{
     solve_displacement_stiffened, solve_displacement_with_progress, BoundaryConditions,
-    ElasticSolution, SolverKind,
+    ElasticSolution, SolverKind, SolverOptions,
 };
 use hocurve_geodesic::{place_boundary_nodes_with, project_nodes_onto_geometry, PlacementOptions};
 use hocurve_mesh::{HighOrderMesh, LinearMesh};
@@ -19,6 +19,33 @@ use crate::boundary_conditions::boundary_conditions;
 use crate::certification::{assess_certified, invalid_elements};
 use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, Step};
 use crate::report::{CurveReport, StepTimings};
+
+/// The displacement error CG may leave, relative to the shortest edge of the mesh: it
+/// changes any element's Jacobian by about this fraction, far below what the quality is
+/// reported to, and (the shortest edge being below the bounding box) far below the geometry
+/// tolerance of 1e-4 of the bounding box.
+const DISPLACEMENT_ACCURACY: f64 = 1e-6;
+
+/// `options` with, unless set, CG's displacement tolerance tied to the shortest edge of
+/// `mesh` ([`DISPLACEMENT_ACCURACY`]).
+fn solver_options(options: &SolverOptions, mesh: &HighOrderMesh) -> SolverOptions {
+    let mut options = options.clone();
+    if options.displacement_tolerance.is_none() {
+        let shortest = mesh
+            .topology()
+            .edges()
+            .iter()
+            .map(|&[a, b]| {
+                let (x, y) = (mesh.nodes[a as usize], mesh.nodes[b as usize]);
+                (0..3).map(|k| (x[k] - y[k]).powi(2)).sum::<f64>().sqrt()
+            })
+            .fold(f64::INFINITY, f64::min);
+        if shortest.is_finite() && shortest > 0.0 {
+            options.displacement_tolerance = Some(DISPLACEMENT_ACCURACY * shortest);
+        }
+    }
+    options
+}
 
 /// Where an [`Attempt`]'s boundary nodes come from.
 pub(crate) enum Boundary<'a> {
@@ -52,6 +79,8 @@ pub(crate) struct Attempt {
     pub(crate) solve_cells: usize,
     /// Elastic solves run (regions tried).
     pub(crate) solves: usize,
+    /// The displacement error bound CG stopped on (None: it stopped on the residual).
+    pub(crate) displacement_error_bound: Option<f64>,
     /// The straight-sided positions of `mesh`'s nodes.
     pub(crate) straight: Vec<[f64; 3]>,
 }
@@ -67,6 +96,7 @@ impl Attempt {
             solve: (String::from("none"), 0, 0, 0.0),
             solve_cells: 0,
             solves: 0,
+            displacement_error_bound: None,
             straight: straight.nodes.clone(),
         }
     }
@@ -105,16 +135,19 @@ impl Attempt {
             let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
             attempt.sliding_nodes = bc.sliding.len();
             let mut report = |p| progress(Progress::Elasticity(p));
+            let mut last_bound = None;
             let mut solve_on = |part: &HighOrderMesh,
                                 bc: &BoundaryConditions,
                                 stiffening: Option<&[f64]>|
              -> Result<ElasticSolution, CurveError> {
+                let solver = solver_options(&options.solver, part);
+                last_bound = solver.displacement_tolerance;
                 let solution = match stiffening {
                     None => solve_displacement_with_progress(
                         part,
                         &options.material,
                         bc,
-                        &options.solver,
+                        &solver,
                         &mut report,
                     )?,
                     Some(stiffening) => solve_displacement_stiffened(
@@ -122,7 +155,7 @@ impl Attempt {
                         &options.material,
                         stiffening,
                         bc,
-                        &options.solver,
+                        &solver,
                         &mut report,
                     )?,
                 };
@@ -165,6 +198,11 @@ impl Attempt {
                 SolverKind::Direct => "direct",
                 SolverKind::Cg => "cg",
                 SolverKind::Auto => "auto",
+            };
+            attempt.displacement_error_bound = if solution.converged_by_displacement {
+                last_bound
+            } else {
+                None
             };
             attempt.solve = (
                 solver.to_string(),
@@ -265,6 +303,7 @@ impl Attempt {
             solver: self.solve.0,
             iterations: self.solve.1,
             residual: self.solve.3,
+            displacement_error_bound: self.displacement_error_bound,
             min_scaled_jacobian: summary.min_scaled_jacobian,
             invalid_elements: invalid_elements(&quality),
             certified_valid_elements: summary.validity.as_ref().map(|v| v.valid),

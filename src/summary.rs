@@ -48,8 +48,14 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
         rows.push((
             "elasticity",
             format!(
-                "{} dofs, {} solver, {} iterations, residual {:.1e}",
-                r.dofs, r.solver, r.iterations, r.residual
+                "{} dofs, {} solver, {} iterations, residual {:.1e}{}",
+                r.dofs,
+                r.solver,
+                r.iterations,
+                r.residual,
+                r.displacement_error_bound
+                    .map(|b| format!(" (displacement error ≤ {b:.1e})"))
+                    .unwrap_or_default()
             ),
         ));
     }

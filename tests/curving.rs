@@ -91,7 +91,11 @@ fn check_sphere(order: usize) -> f64 {
         Some(curved.report.elements),
         "p = {order}"
     );
-    assert!(curved.report.residual <= 1e-8);
+    // CG stops on the residual or once its displacement error is below 1e-6 of the
+    // shortest edge, whichever comes first.
+    let stopped_early = curved.report.displacement_error_bound.is_some();
+    assert!(curved.report.residual <= 1e-8 || stopped_early);
+    assert!(curved.report.residual <= 1e-4);
     let exact = 216.0 - 4.0 * std::f64::consts::PI / 3.0;
     let error = (domain_measure(mesh).unwrap() - exact).abs();
     println!(
