@@ -122,7 +122,7 @@ fn cell_size(mesh: &HighOrderMesh, cell: &HighOrderElement) -> f64 {
 }
 
 /// The solve on every cell, after `solves` on smaller regions.
-fn whole_mesh(
+pub(crate) fn solve_whole_mesh(
     mesh: &HighOrderMesh,
     bc: &BoundaryConditions,
     stiffening: Option<&[f64]>,
@@ -167,7 +167,7 @@ pub(crate) fn solve_in_active_region(
     let deepest = ring.iter().filter(|&&r| r != usize::MAX).max().copied();
     let Some(deepest) = deepest else {
         // Nothing moves (or only slides): the whole solve is as cheap as any.
-        return whole_mesh(mesh, bc, stiffening, 0, &mut solve);
+        return solve_whole_mesh(mesh, bc, stiffening, 0, &mut solve);
     };
     let mut rings = FIRST_RINGS;
     let mut solves = 0;
@@ -178,7 +178,7 @@ pub(crate) fn solve_in_active_region(
         // A region of more than half the cells (which may still have to grow) costs more
         // than one solve on them all.
         if rings >= deepest || 2 * region.len() > mesh.cells.len() {
-            return whole_mesh(mesh, bc, stiffening, solves, &mut solve);
+            return solve_whole_mesh(mesh, bc, stiffening, solves, &mut solve);
         }
         let mut fixed = vec![false; n];
         for (c, cell) in mesh.cells.iter().enumerate() {

@@ -14,7 +14,7 @@ use hocurve_mesh::{HighOrderMesh, LinearMesh};
 use hocurve_nodes::NodeFamily;
 use hocurve_quality::MeshQuality;
 
-use crate::active_region::{solve_in_active_region, RegionSolution, SolveRegion};
+use crate::active_region::{solve_in_active_region, solve_whole_mesh, SolveRegion};
 use crate::boundary_conditions::boundary_conditions;
 use crate::certification::{assess_certified, invalid_elements};
 use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, Step};
@@ -173,15 +173,7 @@ impl Attempt {
                 Ok(solution)
             };
             let region = match options.solve_region {
-                SolveRegion::Whole => {
-                    let solution = solve_on(&mesh, &bc, stiffening)?;
-                    RegionSolution {
-                        displacement: solution.displacement.clone(),
-                        solution,
-                        cells: mesh.cells.len(),
-                        solves: 1,
-                    }
-                }
+                SolveRegion::Whole => solve_whole_mesh(&mesh, &bc, stiffening, 0, &mut solve_on)?,
                 SolveRegion::Active { cutoff } => {
                     solve_in_active_region(&mesh, &bc, stiffening, cutoff, solve_on)?
                 }
