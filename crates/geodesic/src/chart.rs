@@ -2,9 +2,9 @@
 //! and the poles (degenerate edges) recognised, so that paths in parameter space can cross
 //! a seam or start at a pole.
 
-use hocurve_nurbs::inversion::closest_point_on_surface_near;
+use hocurve_nurbs::inversion::closest_point_on_surface_near_with;
 use hocurve_nurbs::vec3::distance;
-use hocurve_nurbs::NurbsSurface;
+use hocurve_nurbs::{EntityGeometry, GeometryModel, NurbsSurface, SurfaceProperties};
 
 /// A NURBS surface with its periodicity and poles.
 #[derive(Debug, Clone)]
@@ -12,9 +12,37 @@ pub struct SurfaceChart<'a> {
     /// The surface.
     pub surface: &'a NurbsSurface,
     domain: [(f64, f64); 2],
-    periodic: [bool; 2],
-    /// `[v = v0, v = v1, u = u0, u = u1]` collapsed to a point.
-    poles: [bool; 4],
+    /// Closed directions (`closed`), poles (`degenerate_edges`: `[v = v0, v = v1, u = u0,
+    /// u = u1]` collapsed to a point) and size.
+    properties: SurfaceProperties,
+}
+
+/// A geometry with the chart of each of its surfaces, built once: a chart's closedness and
+/// poles take a pass over the control net, which costs more than a geodesic on a large
+/// B-spline surface.
+#[derive(Debug, Clone)]
+pub(crate) struct GeometryCharts<'a> {
+    pub geometry: &'a GeometryModel,
+    charts: Vec<Option<SurfaceChart<'a>>>,
+}
+
+impl<'a> GeometryCharts<'a> {
+    pub fn new(geometry: &'a GeometryModel) -> Self {
+        let charts = geometry
+            .entities
+            .iter()
+            .map(|e| match &e.geometry {
+                EntityGeometry::Surface(s) => Some(SurfaceChart::new(s)),
+                EntityGeometry::Curve(_) => None,
+            })
+            .collect();
+        Self { geometry, charts }
+    }
+
+    /// The chart of entity `entity`, `None` for a curve or an index out of range.
+    pub fn chart(&self, entity: usize) -> Option<&SurfaceChart<'a>> {
+        self.charts.get(entity).and_then(Option::as_ref)
+    }
 }
 
 impl<'a> SurfaceChart<'a> {
@@ -24,8 +52,7 @@ impl<'a> SurfaceChart<'a> {
         Self {
             surface,
             domain: [du, dv],
-            periodic: [surface.is_closed_u(), surface.is_closed_v()],
-            poles: surface.degenerate_edges(),
+            properties: surface.properties(),
         }
     }
 
@@ -34,7 +61,7 @@ impl<'a> SurfaceChart<'a> {
         let mut out = uv;
         for d in 0..2 {
             let (a, b) = self.domain[d];
-            out[d] = if self.periodic[d] {
+            out[d] = if self.properties.closed[d] {
                 a + (uv[d] - a).rem_euclid(b - a)
             } else {
                 uv[d].clamp(a, b)
@@ -46,7 +73,7 @@ impl<'a> SurfaceChart<'a> {
     /// The range of parameter `d` (0: u, 1: v) when it is not periodic; `None` for a
     /// closed direction, which has no end.
     pub fn bounded_range(&self, d: usize) -> Option<(f64, f64)> {
-        (!self.periodic[d]).then_some(self.domain[d])
+        (!self.properties.closed[d]).then_some(self.domain[d])
     }
 
     /// The surface point at an (unrolled) parameter.
@@ -60,7 +87,7 @@ impl<'a> SurfaceChart<'a> {
     pub fn unroll_near(&self, uv: [f64; 2], near: [f64; 2]) -> [f64; 2] {
         let mut out = uv;
         for d in 0..2 {
-            if self.periodic[d] {
+            if self.properties.closed[d] {
                 let period = self.domain[d].1 - self.domain[d].0;
                 out[d] = uv[d] - ((uv[d] - near[d]) / period).round() * period;
             }
@@ -76,19 +103,19 @@ impl<'a> SurfaceChart<'a> {
     /// gets a parameter some 1e-8 off the degenerate edge; a test in parameter space would
     /// miss it, and a path from it would spiral away along the wrong meridian.
     pub fn free_direction_at(&self, uv: [f64; 2]) -> Option<(usize, f64)> {
-        if !self.poles.iter().any(|&p| p) {
+        if !self.properties.degenerate_edges.iter().any(|&p| p) {
             return None;
         }
         let [u, v] = self.fold(uv);
         let ((u0, u1), (v0, v1)) = (self.domain[0], self.domain[1]);
         let x = self.surface.point(u, v);
-        let tolerance = 1e-7 * self.surface.size().max(f64::MIN_POSITIVE);
+        let tolerance = 1e-7 * self.properties.size.max(f64::MIN_POSITIVE);
         let near = |p: [f64; 3]| distance(x, p) <= tolerance;
         let candidates = [
-            (self.poles[0], (0, v0), [u, v0]),
-            (self.poles[1], (0, v1), [u, v1]),
-            (self.poles[2], (1, u0), [u0, v]),
-            (self.poles[3], (1, u1), [u1, v]),
+            (self.properties.degenerate_edges[0], (0, v0), [u, v0]),
+            (self.properties.degenerate_edges[1], (0, v1), [u, v1]),
+            (self.properties.degenerate_edges[2], (1, u0), [u0, v]),
+            (self.properties.degenerate_edges[3], (1, u1), [u1, v]),
         ];
         candidates
             .into_iter()
@@ -121,7 +148,8 @@ impl<'a> SurfaceChart<'a> {
 
     /// Closest point of the surface to `x`, by Newton from the parameter `guess`.
     pub fn project_near(&self, x: [f64; 3], guess: [f64; 2]) -> ([f64; 2], [f64; 3]) {
-        let cp = closest_point_on_surface_near(self.surface, x, self.fold(guess));
+        let cp =
+            closest_point_on_surface_near_with(self.surface, &self.properties, x, self.fold(guess));
         (cp.param, cp.point)
     }
 }

@@ -145,24 +145,37 @@ pub fn basis_function_derivatives(
 ) {
     // The table is (p+1)²: small work buffers for the usual low degrees, because zeroing
     // the MAX_ORDER² table dominated the cost of a surface evaluation.
-    if degree < SMALL_ORDER {
-        derivatives_table::<SMALL_ORDER>(span, u, degree, n_derivs, knots, ders)
-    } else {
-        derivatives_table::<MAX_ORDER>(span, u, degree, n_derivs, knots, ders)
-    }
+    basis_function_derivatives_into(span, u, degree, n_derivs, knots, ders)
 }
 
 /// Buffer length for degrees below it (cubic and quintic NURBS, conics).
-const SMALL_ORDER: usize = 8;
+pub(crate) const SMALL_ORDER: usize = 8;
 
-/// A2.3 with work buffers of length `N` (> degree).
-fn derivatives_table<const N: usize>(
+/// [`basis_function_derivatives`] into rows of length `M` (> degree): surfaces of low degree
+/// keep their tables on the stack without zeroing [`MAX_ORDER`]-long rows.
+pub(crate) fn basis_function_derivatives_into<const M: usize>(
     span: usize,
     u: f64,
     degree: usize,
     n_derivs: usize,
     knots: &[f64],
-    ders: &mut [[f64; MAX_ORDER]],
+    ders: &mut [[f64; M]],
+) {
+    if degree < SMALL_ORDER {
+        derivatives_table::<SMALL_ORDER, M>(span, u, degree, n_derivs, knots, ders)
+    } else {
+        derivatives_table::<MAX_ORDER, M>(span, u, degree, n_derivs, knots, ders)
+    }
+}
+
+/// A2.3 with work buffers of length `N` (> degree), rows of `ders` of length `M` (> degree).
+fn derivatives_table<const N: usize, const M: usize>(
+    span: usize,
+    u: f64,
+    degree: usize,
+    n_derivs: usize,
+    knots: &[f64],
+    ders: &mut [[f64; M]],
 ) {
     let p = degree;
     let mut left = [0.0; N];

@@ -8,7 +8,7 @@
 
 use crate::shapes::ClosestPoint;
 use crate::vec3::{dot, norm, sub};
-use crate::{NurbsCurve, NurbsSurface};
+use crate::{NurbsCurve, NurbsSurface, SurfaceProperties};
 
 /// Relative tolerance (of the model size) on the closest point.
 pub const RELATIVE_TOLERANCE: f64 = 1e-12;
@@ -165,7 +165,8 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, x: [f64; 3]) -> ClosestP
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
     let mut best: Option<ClosestPoint<[f64; 2]>> = None;
     // Distinct start points only: at a pole a whole row of samples is one point.
-    let separation = 1e-9 * surface.size();
+    let properties = surface.properties();
+    let separation = 1e-9 * properties.size;
     let mut taken: Vec<[f64; 3]> = Vec::new();
     for &(_, uv) in &scored {
         if taken.len() > STARTS {
@@ -176,13 +177,13 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, x: [f64; 3]) -> ClosestP
             continue;
         }
         taken.push(p);
-        let candidate = closest_point_on_surface_near(surface, x, uv);
+        let candidate = closest_point_on_surface_near_with(surface, &properties, x, uv);
         if best.is_none_or(|b| candidate.distance < b.distance) {
             best = Some(candidate);
         }
     }
     let ((u0, _), (v0, _)) = surface.domain();
-    best.unwrap_or_else(|| closest_point_on_surface_near(surface, x, [u0, v0]))
+    best.unwrap_or_else(|| closest_point_on_surface_near_with(surface, &properties, x, [u0, v0]))
 }
 
 fn breakpoints(knots: &[f64], degree: usize) -> Vec<f64> {
@@ -204,18 +205,28 @@ pub fn closest_point_on_surface_near(
     x: [f64; 3],
     guess: [f64; 2],
 ) -> ClosestPoint<[f64; 2]> {
+    closest_point_on_surface_near_with(surface, &surface.properties(), x, guess)
+}
+
+/// [`closest_point_on_surface_near`] with the surface's `properties` computed beforehand.
+pub fn closest_point_on_surface_near_with(
+    surface: &NurbsSurface,
+    properties: &SurfaceProperties,
+    x: [f64; 3],
+    guess: [f64; 2],
+) -> ClosestPoint<[f64; 2]> {
     let ((u0, u1), (v0, v1)) = surface.domain();
     let range_u = Range {
         start: u0,
         end: u1,
-        periodic: surface.is_closed_u(),
+        periodic: properties.closed[0],
     };
     let range_v = Range {
         start: v0,
         end: v1,
-        periodic: surface.is_closed_v(),
+        periodic: properties.closed[1],
     };
-    let size = surface.size().max(f64::MIN_POSITIVE);
+    let size = properties.size.max(f64::MIN_POSITIVE);
     let tol = STEP_TOLERANCE * size;
     let mut uv = [range_u.fit(guess[0]), range_v.fit(guess[1])];
     let mut d = surface.derivatives(uv[0], uv[1]);

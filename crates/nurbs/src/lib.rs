@@ -35,4 +35,4 @@ pub use error::NurbsError;
 pub use json::{parse_geometry_json, read_geometry_json, GeometryInputError};
 pub use model::{EntityGeometry, EntityPoint, GeometricEntity, GeometryModel};
 pub use naca::Naca4;
-pub use surface::{NurbsSurface, SurfaceDerivatives};
+pub use surface::{NurbsSurface, SurfaceDerivatives, SurfaceProperties};

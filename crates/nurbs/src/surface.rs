@@ -3,8 +3,8 @@
 //! coincides) are allowed: there ∂S/∂u or ∂S/∂v vanishes, the point is still well defined.
 
 use crate::basis::{
-    basis_function_derivatives, basis_functions, find_span, validate_knot_vector, validate_weights,
-    MAX_ORDER,
+    basis_function_derivatives_into, basis_functions, find_span, validate_knot_vector,
+    validate_weights, MAX_ORDER, SMALL_ORDER,
 };
 use crate::vec3;
 use crate::NurbsError;
@@ -27,6 +27,19 @@ pub struct NurbsSurface {
     pub control_points: Vec<[f64; 3]>,
     /// One weight `> 0` per control point, same order.
     pub weights: Vec<f64>,
+}
+
+/// What point inversion and charts need to know of a surface's shape as a whole, computed
+/// once ([`NurbsSurface::properties`]): each is a pass over the control net, which costs more
+/// than a Newton step on a large B-spline surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceProperties {
+    /// [`NurbsSurface::is_closed_u`] and [`NurbsSurface::is_closed_v`].
+    pub closed: [bool; 2],
+    /// [`NurbsSurface::degenerate_edges`].
+    pub degenerate_edges: [bool; 4],
+    /// [`NurbsSurface::size`].
+    pub size: f64,
 }
 
 /// A surface point and its partial derivatives up to second order.
@@ -112,6 +125,15 @@ impl NurbsSurface {
         vec3::bounding_box_diagonal(&self.control_points)
     }
 
+    /// Closedness, poles and size, for reuse across many evaluations.
+    pub fn properties(&self) -> SurfaceProperties {
+        SurfaceProperties {
+            closed: [self.is_closed_u(), self.is_closed_v()],
+            degenerate_edges: self.degenerate_edges(),
+            size: self.size(),
+        }
+    }
+
     /// Control point `P_{i,j}`.
     pub fn control_point(&self, i: usize, j: usize) -> [f64; 3] {
         self.control_points[i * self.n_v() + j]
@@ -145,14 +167,25 @@ impl NurbsSurface {
     /// The point and all partial derivatives up to second order (A3.6 on the homogeneous
     /// net, then the rational quotient rule A4.4).
     pub fn derivatives(&self, u: f64, v: f64) -> SurfaceDerivatives {
+        // Conics and cubics (the usual CAD degrees) on small stack tables: zeroing
+        // MAX_ORDER-long rows cost as much as the evaluation itself.
+        if self.degree_u < SMALL_ORDER && self.degree_v < SMALL_ORDER {
+            self.derivatives_with::<SMALL_ORDER>(u, v)
+        } else {
+            self.derivatives_with::<MAX_ORDER>(u, v)
+        }
+    }
+
+    /// [`Self::derivatives`] with basis tables of row length `M` (> both degrees).
+    fn derivatives_with<const M: usize>(&self, u: f64, v: f64) -> SurfaceDerivatives {
         let (p, q) = (self.degree_u, self.degree_v);
         let n_v = self.n_v();
         let span_u = find_span(p, &self.knots_u, u);
         let span_v = find_span(q, &self.knots_v, v);
-        let mut du = [[0.0; MAX_ORDER]; 3];
-        let mut dv = [[0.0; MAX_ORDER]; 3];
-        basis_function_derivatives(span_u, u, p, 2, &self.knots_u, &mut du);
-        basis_function_derivatives(span_v, v, q, 2, &self.knots_v, &mut dv);
+        let mut du = [[0.0; M]; 3];
+        let mut dv = [[0.0; M]; 3];
+        basis_function_derivatives_into(span_u, u, p, 2, &self.knots_u, &mut du);
+        basis_function_derivatives_into(span_v, v, q, 2, &self.knots_v, &mut dv);
         // a[k][l], w[k][l]: homogeneous derivatives ∂^{k+l}/∂u^k ∂v^l, k + l ≤ 2.
         let mut a = [[[0.0; 3]; 3]; 3];
         let mut w = [[0.0; 3]; 3];

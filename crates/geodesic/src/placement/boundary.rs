@@ -19,6 +19,7 @@ use super::face_interior::place_facet;
 use super::geometry_distance::max_distance;
 use super::options::{BoundaryNodeStrategy, PlacementOptions};
 use super::small_angle::check_edge_angles;
+use crate::chart::GeometryCharts;
 
 /// Where the nodes of the curved boundary go.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -160,11 +161,12 @@ pub fn place_boundary_nodes_with(
         .iter()
         .map(|(k, e)| (*k, entity_list(e)))
         .collect();
+    let charts = GeometryCharts::new(geometry);
     let carriers: Vec<Result<EdgeCarrier, GeodesicError>> = edges
         .par_iter()
         .map(|(vertices, entities)| {
             edge_carrier(
-                geometry,
+                &charts,
                 association,
                 *vertices,
                 entities,
@@ -289,14 +291,7 @@ pub fn place_boundary_nodes_with(
             let facet = &mesh.facets[k];
             let shape = facet.kind;
             let refn = reference[&shape].nodes();
-            place_facet(
-                geometry,
-                &carrier_of,
-                facet.nodes.as_slice(),
-                shape,
-                refn,
-                e,
-            )
+            place_facet(&charts, &carrier_of, facet.nodes.as_slice(), shape, refn, e)
         })
         .collect::<Result<_, _>>()?;
     for list in placed {

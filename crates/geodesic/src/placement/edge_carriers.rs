@@ -2,9 +2,9 @@
 //! curve) and the points at fractions of its length.
 
 use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
-use hocurve_nurbs::{EntityGeometry, GeometryModel};
+use hocurve_nurbs::EntityGeometry;
 
-use crate::chart::SurfaceChart;
+use crate::chart::{GeometryCharts, SurfaceChart};
 use crate::correction::CorrectedEdge;
 use crate::curve_arc::CurveArc;
 use crate::feature::FeatureCurve;
@@ -32,7 +32,7 @@ pub(crate) enum EdgeCarrier<'a> {
 /// boundary curve (2D), the geodesic on the one surface, or the intersection curve of
 /// several surfaces (traced to the relative length tolerance `feature_tolerance`).
 pub(crate) fn edge_carrier<'a>(
-    geometry: &'a GeometryModel,
+    charts: &GeometryCharts<'a>,
     association: &BoundaryAssociation,
     [a, b]: [u32; 2],
     entities: &[usize],
@@ -47,6 +47,7 @@ pub(crate) fn edge_carrier<'a>(
     let first = *entities
         .first()
         .ok_or_else(|| GeodesicError::Mismatch(format!("edge {a}–{b} lies on no entity")))?;
+    let geometry = charts.geometry;
     let entity = geometry.entities.get(first).ok_or_else(|| {
         GeodesicError::Mismatch(format!("entity index {first} is not in the geometry"))
     })?;
@@ -62,7 +63,10 @@ pub(crate) fn edge_carrier<'a>(
             FeatureCurve::between(geometry, entities, xa, xb, feature_tolerance),
         )),
         EntityGeometry::Surface(surface) => {
-            let chart = SurfaceChart::new(surface);
+            let chart = charts
+                .chart(first)
+                .cloned()
+                .unwrap_or_else(|| SurfaceChart::new(surface));
             let (pa, pb) = (
                 closest_point_on_surface(surface, xa).param,
                 closest_point_on_surface(surface, xb).param,

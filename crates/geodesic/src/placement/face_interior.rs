@@ -6,9 +6,9 @@ use std::collections::BTreeMap;
 use hocurve_nodes::{NodeEntity, ReferenceNodes, Shape};
 use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
 use hocurve_nurbs::vec3::{add, distance, scale, sub};
-use hocurve_nurbs::{EntityGeometry, GeometryModel};
+use hocurve_nurbs::EntityGeometry;
 
-use crate::chart::SurfaceChart;
+use crate::chart::GeometryCharts;
 use crate::path::{GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
 use crate::GeodesicError;
 
@@ -17,7 +17,7 @@ use super::edge_carriers::EdgeCarrier;
 /// Places the interior nodes of one facet on entity `entity` (its edge nodes are placed once
 /// per edge, by [`place_boundary_nodes_with`]).
 pub(super) fn place_facet(
-    geometry: &GeometryModel,
+    geometry: &GeometryCharts,
     carriers: &BTreeMap<[u32; 2], EdgeCarrier>,
     nodes: &[u32],
     shape: Shape,
@@ -66,15 +66,17 @@ pub(super) fn place_facet(
 
 /// Points at fractions along two boundary points' geodesic on `entity`.
 pub(super) fn geodesic_point(
-    geometry: &GeometryModel,
+    geometry: &GeometryCharts,
     entity: usize,
     from: ([f64; 2], [f64; 3]),
     to: ([f64; 2], [f64; 3]),
     fraction: f64,
 ) -> ([f64; 2], [f64; 3]) {
-    match &geometry.entities[entity].geometry {
-        EntityGeometry::Surface(surface) => {
-            let chart = SurfaceChart::new(surface);
+    match (
+        &geometry.geometry.entities[entity].geometry,
+        geometry.chart(entity),
+    ) {
+        (EntityGeometry::Surface(surface), Some(chart)) => {
             // Parameters of edge points may come from another entity's chart on feature
             // edges; re-invert them where they do not reproduce the point.
             let param_on = |(uv, x): ([f64; 2], [f64; 3])| {
@@ -85,14 +87,14 @@ pub(super) fn geodesic_point(
                 }
             };
             let path = GeodesicPath::between(
-                &chart,
+                chart,
                 param_on(from),
                 param_on(to),
                 DEFAULT_LENGTH_TOLERANCE,
             );
-            path.at_fraction(&chart, fraction)
+            path.at_fraction(chart, fraction)
         }
-        EntityGeometry::Curve(_) => {
+        _ => {
             let x = add(from.1, scale(sub(to.1, from.1), fraction));
             ([0.0; 2], x)
         }
@@ -104,7 +106,7 @@ type Along<'a> = dyn Fn(usize, usize, f64) -> Result<([f64; 2], [f64; 3]), Geode
 /// The paper's Eq. (6): a triangle's interior node from three geodesics of constant
 /// barycentric coordinate, averaged and projected onto the surface.
 pub(super) fn triangle_node(
-    geometry: &GeometryModel,
+    geometry: &GeometryCharts,
     entity: usize,
     along: &Along,
     xi: [f64; 3],
@@ -143,7 +145,7 @@ pub(super) fn triangle_node(
 /// The paper's Eq. (7): a quadrilateral's interior node from the two geodesics of constant
 /// ξ and η, averaged and projected onto the surface.
 pub(super) fn quadrilateral_node(
-    geometry: &GeometryModel,
+    geometry: &GeometryCharts,
     entity: usize,
     along: &Along,
     xi: [f64; 3],
@@ -159,17 +161,18 @@ pub(super) fn quadrilateral_node(
 /// Closest point of `entity` to `x` (Π_S in Eqs. (6), (7)), by Newton from `guess` on a
 /// surface, in closed form where the entity has one.
 pub(super) fn project(
-    geometry: &GeometryModel,
+    geometry: &GeometryCharts,
     entity: usize,
     x: [f64; 3],
     guess: [f64; 2],
 ) -> [f64; 3] {
-    let e = &geometry.entities[entity];
+    let e = &geometry.geometry.entities[entity];
     if let Some(shape) = &e.analytic {
         return shape.closest_point(x).point;
     }
-    match &e.geometry {
-        EntityGeometry::Surface(s) => SurfaceChart::new(s).project_near(x, guess).1,
-        EntityGeometry::Curve(c) => closest_point_on_curve(c, x).point,
+    match (&e.geometry, geometry.chart(entity)) {
+        (EntityGeometry::Curve(c), _) => closest_point_on_curve(c, x).point,
+        (EntityGeometry::Surface(_), Some(chart)) => chart.project_near(x, guess).1,
+        (EntityGeometry::Surface(s), None) => closest_point_on_surface(s, x).point,
     }
 }

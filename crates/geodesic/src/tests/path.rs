@@ -148,3 +148,35 @@ fn brent_finds_the_minimum_of_a_parabola_and_of_a_skewed_function() {
     );
     assert!((t + 0.3).abs() < 1e-6);
 }
+
+#[test]
+fn newton_finds_a_root_to_round_off_and_refuses_what_it_cannot_bracket() {
+    // g(t) = t³ + t − c has the single root 0.2 for c = 0.208.
+    let g = |t: f64| (t * t * t + t - 0.208, 3.0 * t * t + 1.0);
+    let t = newton_root(g, -0.5, 0.5).expect("converges");
+    assert!((t - 0.2).abs() <= 4.0 * f64::EPSILON, "{t}");
+    // The root 0.7 lies outside [−0.5, 0.5]: an iterate leaves the interval.
+    assert_eq!(newton_root(|t| (t - 0.7, 1.0), -0.5, 0.5), None);
+    // A maximum of the cost (g' < 0) is not taken.
+    assert_eq!(newton_root(|t| (-t + 0.1, -1.0), -0.5, 0.5), None);
+}
+
+#[test]
+fn on_a_torus_the_path_length_is_within_its_tolerance_of_the_limit() {
+    // A geodesic on a torus has no closed form: compare with the same path refined to the
+    // segment cap, whose length is converged to ~1e-14 (fourth order from 256 segments), on a
+    // mesh-edge-like path crossing the tube's parameter lines obliquely.
+    let torus = hocurve_nurbs::shapes::torus([0.0; 3], [0.0, 0.0, 1.0], 2.0, 0.5).unwrap();
+    let chart = SurfaceChart::new(&torus);
+    let (a, b) = (
+        param_of(&torus, [2.5, 0.0, 0.0]),
+        param_of(&torus, [2.3, 0.45, 0.35]),
+    );
+    let limit = GeodesicPath::between(&chart, a, b, 0.0).length();
+    for tolerance in [1e-6, 1e-8, 1e-10] {
+        let path = GeodesicPath::between(&chart, a, b, tolerance);
+        let error = (path.length() - limit).abs() / limit;
+        assert!(error <= tolerance, "tolerance {tolerance}: error {error:.2e}");
+        assert!(path.points.len() < 257, "stopped before the cap");
+    }
+}

@@ -118,7 +118,14 @@ fn edge_nodes_are_computed_once_and_agree_with_either_orientation() {
         assert_eq!(seen_from_lower, &from_lower);
         // An independent recomputation of the edge from either end gives the same points.
         for (from, to) in [(key[0], key[1]), (key[1], key[0])] {
-            let carrier = edge_carrier(&model, &a, [from, to], &[0], 1e-12).unwrap();
+            let carrier = edge_carrier(
+                &crate::chart::GeometryCharts::new(&model),
+                &a,
+                [from, to],
+                &[0],
+                1e-12,
+            )
+            .unwrap();
             for (k, &f) in line.iter().enumerate() {
                 let n = if from < to {
                     from_lower[k]
