@@ -3,7 +3,7 @@
 //! a seam or start at a pole.
 
 use hocurve_nurbs::inversion::closest_point_on_surface_near_with;
-use hocurve_nurbs::vec3::distance;
+use hocurve_nurbs::vec3::{distance, dot, sub};
 use hocurve_nurbs::{EntityGeometry, GeometryModel, NurbsSurface, SurfaceProperties};
 
 /// A NURBS surface with its periodicity and poles.
@@ -68,6 +68,11 @@ impl<'a> SurfaceChart<'a> {
             };
         }
         out
+    }
+
+    /// The bounding-box diagonal of the surface's control net.
+    pub fn size(&self) -> f64 {
+        self.properties.size
     }
 
     /// The range of parameter `d` (0: u, 1: v) when it is not periodic; `None` for a
@@ -144,6 +149,51 @@ impl<'a> SurfaceChart<'a> {
         }
         let b = self.unroll_near(b, a);
         (a, b)
+    }
+
+    /// The parameter near `guess` (unrolled next to it) of the surface point closest to `x`
+    /// by Gauss–Newton steps on the first fundamental form, without a line search: one
+    /// surface evaluation per step, three or four in all where `x` is near the surface and
+    /// the guess near its foot, against twice that for [`Self::project_near`]. `None` where
+    /// the form is singular (at a pole), an iterate leaves a bounded direction's range, or
+    /// the steps have not shrunk to round-off within `max_steps`.
+    pub fn project_by_gauss_newton(
+        &self,
+        x: [f64; 3],
+        guess: [f64; 2],
+        max_steps: usize,
+    ) -> Option<[f64; 2]> {
+        let mut uv = guess;
+        let tolerance = 1e-14 * self.properties.size;
+        for _ in 0..max_steps {
+            let [u, v] = self.fold(uv);
+            let d = self.surface.derivatives(u, v);
+            let r = sub(x, d.point);
+            let (guu, guv, gvv) = (dot(d.du, d.du), dot(d.du, d.dv), dot(d.dv, d.dv));
+            let det = guu * gvv - guv * guv;
+            if det.is_nan() || det <= 1e-12 * guu.max(gvv).powi(2) {
+                return None;
+            }
+            let (bu, bv) = (dot(d.du, r), dot(d.dv, r));
+            let step = [(gvv * bu - guv * bv) / det, (guu * bv - guv * bu) / det];
+            uv = [uv[0] + step[0], uv[1] + step[1]];
+            for d in 0..2 {
+                if let Some((a, b)) = self.bounded_range(d) {
+                    if !(a..=b).contains(&uv[d]) {
+                        return None;
+                    }
+                }
+            }
+            // The step's length on the surface, to first order.
+            let moved =
+                (guu * step[0] * step[0] + 2.0 * guv * step[0] * step[1] + gvv * step[1] * step[1])
+                    .max(0.0)
+                    .sqrt();
+            if moved <= tolerance {
+                return Some(uv);
+            }
+        }
+        None
     }
 
     /// Closest point of the surface to `x`, by Newton from the parameter `guess`.

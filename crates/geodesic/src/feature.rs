@@ -18,9 +18,11 @@
 //! foot point there, by Newton's method on the two tangent planes and the curve's normal
 //! plane), so it lies on each of them to round-off.
 
-use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
+use hocurve_nurbs::inversion::closest_point_on_curve;
+#[cfg(test)]
+use hocurve_nurbs::inversion::closest_point_on_surface;
 use hocurve_nurbs::vec3::{add, cross, distance, dot, scale};
-use hocurve_nurbs::{EntityGeometry, GeometryModel};
+use hocurve_nurbs::{EntityGeometry, GeometricEntity, GeometryModel};
 
 use crate::association::snap_onto;
 use crate::chart::SurfaceChart;
@@ -145,11 +147,14 @@ fn trace_intersection(
     to: [f64; 3],
     tolerance: f64,
 ) -> (Vec<[f64; 3]>, Vec<Vec<[f64; 2]>>) {
+    // The entities of `charts`, whose inversion start grids are kept across calls.
+    let entities: Vec<&GeometricEntity> = surfaces
+        .iter()
+        .filter_map(|&e| geometry.entities.get(e))
+        .filter(|e| !e.is_curve())
+        .collect();
     let invert = |x: [f64; 3]| -> Vec<[f64; 2]> {
-        charts
-            .iter()
-            .map(|c| closest_point_on_surface(c.surface, x).param)
-            .collect()
+        entities.iter().map(|e| e.closest_point(x).param).collect()
     };
     let start = invert(from);
     let end: Vec<[f64; 2]> = invert(to)

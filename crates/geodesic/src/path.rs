@@ -100,8 +100,7 @@ impl GeodesicPath {
                 change
             };
             last_change = change;
-            if segments >= MAX_SEGMENTS
-                || (segments >= MIN_SEGMENTS && error <= tolerance * length)
+            if segments >= MAX_SEGMENTS || (segments >= MIN_SEGMENTS && error <= tolerance * length)
             {
                 break;
             }
@@ -198,7 +197,11 @@ fn bisector_minimum(
     // splits the segment into two equal chords and the polyline's chords stay even.
     let guess = [0.5 * (a[0] + b[0]), 0.5 * (a[1] + b[1])];
     let chord_mid = scale(add(xa, xb), 0.5);
-    let mid = chart.unroll_near(chart.project_near(chord_mid, guess).0, guess);
+    // Gauss–Newton from the parameter midpoint (its image is O(h²) off); the projection with
+    // a line search is the fallback at poles, domain edges and on long first segments.
+    let mid = chart
+        .project_by_gauss_newton(chord_mid, guess, 8)
+        .unwrap_or_else(|| chart.unroll_near(chart.project_near(chord_mid, guess).0, guess));
     let chord = sub(xb, xa);
     let chord_length = distance(xa, xb);
     let mut direction = [-(b[1] - a[1]), b[0] - a[0]];

@@ -12,6 +12,8 @@ use crate::{NurbsCurve, NurbsSurface, SurfaceProperties};
 
 /// Relative tolerance (of the model size) on the closest point.
 pub const RELATIVE_TOLERANCE: f64 = 1e-12;
+/// Below this distance (relative to the model size) a point counts as lying on the surface.
+const ON_SURFACE: f64 = 1e-14;
 /// Newton starts tried from the best samples.
 const STARTS: usize = 3;
 /// Newton stops after a step shorter than this (relative to the model size); by quadratic
@@ -148,42 +150,99 @@ pub fn closest_point_on_curve_near(
 
 /// The point of `surface` closest to `x`, from sampled starts.
 pub fn closest_point_on_surface(surface: &NurbsSurface, x: [f64; 3]) -> ClosestPoint<[f64; 2]> {
-    let su = samples(
-        &breakpoints(&surface.knots_u, surface.degree_u),
-        surface.degree_u + 2,
-    );
-    let sv = samples(
-        &breakpoints(&surface.knots_v, surface.degree_v),
-        surface.degree_v + 2,
-    );
-    let mut scored = Vec::with_capacity(su.len() * sv.len());
-    for &u in &su {
-        for &v in &sv {
-            scored.push((norm(sub(surface.point(u, v), x)), [u, v]));
+    closest_point_on_surface_sampled(surface, &SurfaceSamples::new(surface), x)
+}
+
+/// The start grid of global point inversion on one surface — degree + 2 parameters per knot
+/// span in each direction, with their points — and the surface's properties: computed once
+/// for a surface inverted many times, they make each inversion a scan of stored points and
+/// a few Newton steps instead of hundreds of surface evaluations.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceSamples {
+    params: Vec<[f64; 2]>,
+    points: Vec<[f64; 3]>,
+    /// Closedness, poles and size of the surface.
+    pub properties: SurfaceProperties,
+    /// What the grid was made for: the domain and the control net's size.
+    domain: ((f64, f64), (f64, f64)),
+    net: (usize, usize),
+}
+
+impl SurfaceSamples {
+    /// The start grid of `surface`.
+    pub fn new(surface: &NurbsSurface) -> Self {
+        let su = samples(
+            &breakpoints(&surface.knots_u, surface.degree_u),
+            surface.degree_u + 2,
+        );
+        let sv = samples(
+            &breakpoints(&surface.knots_v, surface.degree_v),
+            surface.degree_v + 2,
+        );
+        let mut params = Vec::with_capacity(su.len() * sv.len());
+        for &u in &su {
+            for &v in &sv {
+                params.push([u, v]);
+            }
+        }
+        let points = params.iter().map(|p| surface.point(p[0], p[1])).collect();
+        SurfaceSamples {
+            params,
+            points,
+            properties: surface.properties(),
+            domain: surface.domain(),
+            net: (surface.n_u(), surface.n_v()),
         }
     }
+
+    /// Whether the grid was made for a surface with `surface`'s domain and control net size
+    /// (a cheap guard against a grid kept past a change of the surface).
+    pub fn fits(&self, surface: &NurbsSurface) -> bool {
+        self.domain == surface.domain() && self.net == (surface.n_u(), surface.n_v())
+    }
+}
+
+/// [`closest_point_on_surface`] from the precomputed start grid `samples` of `surface`
+/// (bitwise the same result).
+pub fn closest_point_on_surface_sampled(
+    surface: &NurbsSurface,
+    samples: &SurfaceSamples,
+    x: [f64; 3],
+) -> ClosestPoint<[f64; 2]> {
+    let mut scored: Vec<(f64, usize)> = samples
+        .points
+        .iter()
+        .enumerate()
+        .map(|(i, p)| (norm(sub(*p, x)), i))
+        .collect();
     scored.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let properties = &samples.properties;
     let mut best: Option<ClosestPoint<[f64; 2]>> = None;
     // Distinct start points only: at a pole a whole row of samples is one point.
-    let properties = surface.properties();
     let separation = 1e-9 * properties.size;
     let mut taken: Vec<[f64; 3]> = Vec::new();
-    for &(_, uv) in &scored {
+    for &(_, i) in &scored {
         if taken.len() > STARTS {
             break;
         }
-        let p = surface.point(uv[0], uv[1]);
+        let p = samples.points[i];
         if taken.iter().any(|&q| norm(sub(p, q)) <= separation) {
             continue;
         }
         taken.push(p);
-        let candidate = closest_point_on_surface_near_with(surface, &properties, x, uv);
+        let candidate =
+            closest_point_on_surface_near_with(surface, properties, x, samples.params[i]);
         if best.is_none_or(|b| candidate.distance < b.distance) {
             best = Some(candidate);
         }
+        // A point on the surface to round-off is its own closest point: no other start can
+        // do better than this (the usual case: checking nodes placed on the surface).
+        if candidate.distance <= ON_SURFACE * properties.size {
+            break;
+        }
     }
     let ((u0, _), (v0, _)) = surface.domain();
-    best.unwrap_or_else(|| closest_point_on_surface_near_with(surface, &properties, x, [u0, v0]))
+    best.unwrap_or_else(|| closest_point_on_surface_near_with(surface, properties, x, [u0, v0]))
 }
 
 fn breakpoints(knots: &[f64], degree: usize) -> Vec<f64> {

@@ -359,6 +359,7 @@ fn parse_entity(index: usize, value: Value) -> Result<GeometricEntity, GeometryI
         origin: format!("JSON entity {index} ({kind})"),
         geometry: parsed.geometry,
         analytic: parsed.analytic,
+        samples: Default::default(),
     })
 }
 

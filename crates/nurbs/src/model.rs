@@ -1,7 +1,12 @@
 //! The geometry model: the named curves and surfaces that boundary nodes are placed on,
 //! whichever input (JSON, IGES, code) described them.
 
-use crate::inversion::{closest_point_on_curve, closest_point_on_surface};
+use std::sync::OnceLock;
+
+use crate::inversion::{
+    closest_point_on_curve, closest_point_on_surface, closest_point_on_surface_sampled,
+    SurfaceSamples,
+};
 use crate::shapes::{AnalyticShape, ClosestPoint};
 use crate::{NurbsCurve, NurbsSurface};
 
@@ -26,6 +31,20 @@ pub struct GeometricEntity {
     pub geometry: EntityGeometry,
     /// The same shape in closed form, when it is one (fast, exact projection).
     pub analytic: Option<AnalyticShape>,
+    /// A surface's inversion start grid, built on first use.
+    pub(crate) samples: SampleCache,
+}
+
+/// The lazily built [`SurfaceSamples`] of a surface entity. It takes no part in comparisons
+/// (two entities with the same shape are equal whether or not either was inverted), and a
+/// grid that no longer fits the surface (its `geometry` replaced after first use) is not used.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct SampleCache(OnceLock<SurfaceSamples>);
+
+impl PartialEq for SampleCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 /// A closest point on an entity: the parameter (curves use `param[0]`), the point and the
@@ -44,6 +63,7 @@ impl GeometricEntity {
             origin: origin.into(),
             geometry,
             analytic: None,
+            samples: SampleCache::default(),
         }
     }
 
@@ -65,7 +85,14 @@ impl GeometricEntity {
                     distance: cp.distance,
                 }
             }
-            EntityGeometry::Surface(s) => closest_point_on_surface(s, x),
+            EntityGeometry::Surface(s) => {
+                let cached = self.samples.0.get_or_init(|| SurfaceSamples::new(s));
+                if cached.fits(s) {
+                    closest_point_on_surface_sampled(s, cached, x)
+                } else {
+                    closest_point_on_surface(s, x)
+                }
+            }
         };
         match &self.analytic {
             Some(shape) => {

@@ -1,7 +1,7 @@
 //! The carrier of each mesh edge (boundary curve, geodesic, feature curve or corrected
 //! curve) and the points at fractions of its length.
 
-use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
+use hocurve_nurbs::inversion::closest_point_on_curve;
 use hocurve_nurbs::EntityGeometry;
 
 use crate::chart::{GeometryCharts, SurfaceChart};
@@ -68,8 +68,8 @@ pub(crate) fn edge_carrier<'a>(
                 .cloned()
                 .unwrap_or_else(|| SurfaceChart::new(surface));
             let (pa, pb) = (
-                closest_point_on_surface(surface, xa).param,
-                closest_point_on_surface(surface, xb).param,
+                entity.closest_point(xa).param,
+                entity.closest_point(xb).param,
             );
             let path = GeodesicPath::between(&chart, pa, pb, DEFAULT_LENGTH_TOLERANCE);
             Ok(EdgeCarrier::Surface { chart, path })

@@ -4,7 +4,7 @@
 use std::collections::BTreeMap;
 
 use hocurve_nodes::{NodeEntity, ReferenceNodes, Shape};
-use hocurve_nurbs::inversion::{closest_point_on_curve, closest_point_on_surface};
+use hocurve_nurbs::inversion::closest_point_on_curve;
 use hocurve_nurbs::vec3::{add, distance, scale, sub};
 use hocurve_nurbs::EntityGeometry;
 
@@ -72,26 +72,29 @@ pub(super) fn geodesic_point(
     to: ([f64; 2], [f64; 3]),
     fraction: f64,
 ) -> ([f64; 2], [f64; 3]) {
-    match (
-        &geometry.geometry.entities[entity].geometry,
-        geometry.chart(entity),
-    ) {
-        (EntityGeometry::Surface(surface), Some(chart)) => {
+    let entity_geometry = &geometry.geometry.entities[entity];
+    match (&entity_geometry.geometry, geometry.chart(entity)) {
+        (EntityGeometry::Surface(_), Some(chart)) => {
             // Parameters of edge points may come from another entity's chart on feature
-            // edges; re-invert them where they do not reproduce the point.
-            let param_on = |(uv, x): ([f64; 2], [f64; 3])| {
-                if distance(chart.point(uv), x) <= 1e-9 * surface.size() {
-                    uv
-                } else {
-                    closest_point_on_surface(surface, x).param
-                }
+            // edges; re-invert them where they do not reproduce the point: by Newton from the
+            // other end's parameter when that one is valid (the ends are a mesh edge apart),
+            // globally otherwise (a search over the whole surface, far costlier on a large
+            // B-spline face).
+            let tolerance = 1e-9 * chart.size();
+            let valid = |(uv, x): ([f64; 2], [f64; 3])| distance(chart.point(uv), x) <= tolerance;
+            let invert = |x: [f64; 3], near: Option<[f64; 2]>| {
+                near.map(|g| chart.project_near(x, g))
+                    .filter(|(_, y)| distance(*y, x) <= tolerance)
+                    .map_or_else(|| entity_geometry.closest_point(x).param, |(uv, _)| uv)
             };
-            let path = GeodesicPath::between(
-                chart,
-                param_on(from),
-                param_on(to),
-                DEFAULT_LENGTH_TOLERANCE,
-            );
+            let (from_ok, to_ok) = (valid(from), valid(to));
+            let a = if from_ok {
+                from.0
+            } else {
+                invert(from.1, to_ok.then_some(to.0))
+            };
+            let b = if to_ok { to.0 } else { invert(to.1, Some(a)) };
+            let path = GeodesicPath::between(chart, a, b, DEFAULT_LENGTH_TOLERANCE);
             path.at_fraction(chart, fraction)
         }
         _ => {
@@ -173,6 +176,6 @@ pub(super) fn project(
     match (&e.geometry, geometry.chart(entity)) {
         (EntityGeometry::Curve(c), _) => closest_point_on_curve(c, x).point,
         (EntityGeometry::Surface(_), Some(chart)) => chart.project_near(x, guess).1,
-        (EntityGeometry::Surface(s), None) => closest_point_on_surface(s, x).point,
+        (EntityGeometry::Surface(_), None) => e.closest_point(x).point,
     }
 }

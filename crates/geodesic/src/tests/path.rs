@@ -176,7 +176,10 @@ fn on_a_torus_the_path_length_is_within_its_tolerance_of_the_limit() {
     for tolerance in [1e-6, 1e-8, 1e-10] {
         let path = GeodesicPath::between(&chart, a, b, tolerance);
         let error = (path.length() - limit).abs() / limit;
-        assert!(error <= tolerance, "tolerance {tolerance}: error {error:.2e}");
+        assert!(
+            error <= tolerance,
+            "tolerance {tolerance}: error {error:.2e}"
+        );
         assert!(path.points.len() < 257, "stopped before the cap");
     }
 }
