@@ -205,3 +205,24 @@ fn a_path_from_the_pole_of_a_b_spline_ellipsoid_does_not_collapse_onto_the_pole(
         assert!((e - 1.0).abs() < 1e-6, "{x:?}");
     }
 }
+
+#[test]
+fn gauss_newton_reaches_the_foot_and_declines_at_a_pole() {
+    let model = unit_sphere();
+    let chart = SurfaceChart::new(surface(&model));
+    // A point off the sphere, from a guess a few degrees away: the foot is x/|x|.
+    let x = [0.9, 0.6, 0.5];
+    let r = norm(x);
+    let guess = chart.unroll_near(param_of(&chart, [0.8, 0.6, 0.0]), [0.3, 0.5]);
+    let uv = chart
+        .project_by_gauss_newton(x, guess, 20)
+        .expect("converges away from the poles");
+    let foot = chart.point(uv);
+    assert!(distance(foot, x.map(|c| c / r)) < 1e-13, "{foot:?}");
+    // At a pole the first fundamental form is singular.
+    let ((_, _), (v0, _)) = chart.surface.domain();
+    assert_eq!(
+        chart.project_by_gauss_newton([0.0, 0.0, -2.0], [0.3, v0], 20),
+        None
+    );
+}

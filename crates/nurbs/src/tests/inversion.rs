@@ -116,3 +116,33 @@ fn torus_round_trip_and_exact_projection() {
         assert!((cp.distance - exact.distance).abs() < 1e-11);
     }
 }
+
+#[test]
+fn a_kept_start_grid_gives_the_same_closest_points_and_stops_on_the_surface() {
+    let s = torus([0.0; 3], [0.0, 0.0, 1.0], 2.0, 0.5).unwrap();
+    let samples = SurfaceSamples::new(&s);
+    assert!(samples.fits(&s));
+    let mut state = 7;
+    for _ in 0..200 {
+        let x = [
+            4.0 * lcg(&mut state) - 2.0,
+            4.0 * lcg(&mut state) - 2.0,
+            lcg(&mut state) - 0.5,
+        ];
+        let fresh = closest_point_on_surface(&s, x);
+        let kept = closest_point_on_surface_sampled(&s, &samples, x);
+        // Off the surface every start is tried, as without the grid: bitwise equal.
+        assert_eq!(fresh, kept);
+        // On it, the first start that reaches it is the answer, to round-off.
+        let on = kept.point;
+        let again = closest_point_on_surface_sampled(&s, &samples, on);
+        assert!(again.distance <= 1e-14 * s.size(), "{}", again.distance);
+        let exact = AnalyticShape::new_torus([0.0; 3], [0.0, 0.0, 1.0], 2.0, 0.5)
+            .unwrap()
+            .closest_point(x);
+        assert!((kept.distance - exact.distance).abs() < 1e-12, "{x:?}");
+    }
+    // A grid made for another control net is not used.
+    let other = sphere([0.0; 3], 1.0).unwrap();
+    assert!(!samples.fits(&other));
+}
