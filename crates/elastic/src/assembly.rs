@@ -10,6 +10,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use hocurve_mesh::{HighOrderMesh, MeshError};
 use rayon::prelude::*;
 
+use crate::condensation::{CondensedPattern, Constraints};
 use crate::element_matrix::{element_stiffness, invert_jacobian, ElementScratch};
 use crate::reference_element::ReferenceStiffness;
 use crate::sparsity::{colour_cells, node_cells, node_graph, Adjacency};
@@ -21,9 +22,12 @@ pub type StiffnessMatrix = sprs::CsMatI<f64, u32, usize>;
 /// A body force density f(x) (force per unit volume; per unit area in 2D).
 pub type BodyForce<'a> = dyn Fn([f64; 3]) -> [f64; 3] + Sync + 'a;
 
-/// The assembled stiffness matrix with what later steps reuse.
+/// The assembled, condensed stiffness matrix with what later steps reuse.
 pub(crate) struct Assembled {
+    /// Tᵀ K T (the constrained dofs eliminated, see [`crate::condensation`]).
     pub matrix: StiffnessMatrix,
+    /// −Tᵀ K u_p: the load that the prescribed displacements put on the reduced unknowns.
+    pub rhs: Vec<f64>,
     /// Node adjacency: the block pattern of `matrix`.
     pub graph: Adjacency,
     /// Cells around each node.
@@ -49,19 +53,26 @@ pub fn assemble_stiffness(
     Ok(assemble(mesh, material)?.matrix)
 }
 
+/// The unconstrained stiffness matrix (every node free: T = I).
 pub(crate) fn assemble(
     mesh: &HighOrderMesh,
     material: &Material,
 ) -> Result<Assembled, ElasticError> {
-    assemble_with_progress(mesh, material, None, &mut |_| {})
+    let free = Constraints::free(mesh.nodes.len(), mesh.dim);
+    assemble_condensed(mesh, material, None, &free, &mut |_| {})
 }
 
-/// [`assemble`], each cell c's Lamé parameters multiplied by `stiffening[c]` when given,
-/// calling `progress` with the fraction of cells done after each colour.
-pub(crate) fn assemble_with_progress(
+/// Tᵀ K T and −Tᵀ K u_p under `constraints`, assembled element by element straight into the
+/// condensed pattern (the full K is never formed), each cell c's Lamé parameters multiplied
+/// by `stiffening[c]` when given, calling `progress` with the fraction of cells done after
+/// each colour. An element block between two free nodes is added as it is; a sliding node's
+/// rows and columns are rotated into its free directions, Q_a K_ab Q_bᵀ, before adding; a
+/// block against a prescribed node b goes to the right-hand side as −Q_a K_ab u_b.
+pub(crate) fn assemble_condensed(
     mesh: &HighOrderMesh,
     material: &Material,
     stiffening: Option<&[f64]>,
+    constraints: &Constraints,
     progress: &mut dyn FnMut(f64),
 ) -> Result<Assembled, ElasticError> {
     material.validate()?;
@@ -71,34 +82,28 @@ pub(crate) fn assemble_with_progress(
     }
     let references = ReferenceStiffness::for_mesh(mesh)?;
     let dim = mesh.dim;
+    // Constraints are built here from the mesh's own node count (not user data).
+    debug_assert!(constraints.count.len() == mesh.nodes.len() && constraints.dim == dim);
     let (lambda, mu) = material.lame();
     let cells_of_node = node_cells(mesh);
     let graph = node_graph(mesh, &cells_of_node);
+    let pattern = CondensedPattern::new(&graph, constraints);
 
-    // Dof pattern: the row of (n, c) holds, for each neighbour m of n, the dofs m·dim + 0..dim.
-    let nodes = mesh.nodes.len();
-    let mut indptr = Vec::with_capacity(nodes * dim + 1);
-    indptr.push(0usize);
-    for n in 0..nodes {
-        let len = graph.row(n).len() * dim;
-        for _ in 0..dim {
-            indptr.push(indptr[indptr.len() - 1] + len);
-        }
-    }
-    let nnz = indptr[nodes * dim];
-    let mut indices = Vec::with_capacity(nnz);
-    for n in 0..nodes {
-        for _ in 0..dim {
-            for &m in graph.row(n) {
-                for d in 0..dim {
-                    indices.push(m * dim as u32 + d as u32);
-                }
-            }
-        }
-    }
     // Cells of one colour touch disjoint rows, so plain load/store on the atomics never
     // races; atomics only make that sharing expressible without `unsafe`.
-    let values: Vec<AtomicU64> = (0..nnz).map(|_| AtomicU64::new(0)).collect();
+    let values: Vec<AtomicU64> = (0..pattern.indices.len())
+        .into_par_iter()
+        .map(|_| AtomicU64::new(0))
+        .collect();
+    let rhs: Vec<AtomicU64> = (0..constraints.len())
+        .into_par_iter()
+        .map(|_| AtomicU64::new(0))
+        .collect();
+    let add = |slot: &AtomicU64, value: f64| {
+        let sum = f64::from_bits(slot.load(Ordering::Relaxed)) + value;
+        slot.store(sum.to_bits(), Ordering::Relaxed);
+    };
+    let (count, first) = (&constraints.count, &constraints.first);
 
     let mut done = 0;
     for class in colour_cells(mesh, &cells_of_node) {
@@ -116,20 +121,79 @@ pub(crate) fn assemble_with_progress(
                 let s = stiffening.map_or(1.0, |scale| scale[c]);
                 element_stiffness(reference, s * lambda, s * mu, c, scratch)?;
                 let size = cell.nodes.len() * dim;
+                // Columns in increasing node order: each row of the pattern is then walked
+                // once, front to back, instead of searched per entry.
+                scratch.order.clear();
+                scratch.order.extend(0..cell.nodes.len());
+                scratch.order.sort_unstable_by_key(|&b| cell.nodes[b]);
+                let (k, order) = (&scratch.matrix, &scratch.order);
                 for (a, &na) in cell.nodes.iter().enumerate() {
-                    let row = graph.row(na as usize);
-                    for (b, nb) in cell.nodes.iter().enumerate() {
-                        let Ok(pos) = row.binary_search(nb) else {
+                    let na = na as usize;
+                    let ka = count[na] as usize;
+                    if ka == 0 {
+                        continue;
+                    }
+                    let qa = &constraints.directions[na];
+                    let row = graph.row(na);
+                    let columns = pattern.column_offsets(na);
+                    // Row (a, c) of the element matrix starts at block (a, b) here.
+                    let at = |b: usize, c: usize, d: usize| k[(a * dim + c) * size + b * dim + d];
+                    let mut pos = 0;
+                    for &b in order {
+                        let nb = cell.nodes[b];
+                        let nb_u = nb as usize;
+                        let kb = count[nb_u] as usize;
+                        if kb == 0 {
+                            let ub = &constraints.prescribed[nb_u * dim..(nb_u + 1) * dim];
+                            if ub.iter().all(|&v| v == 0.0) {
+                                continue;
+                            }
+                            for i in 0..ka {
+                                let mut sum = 0.0;
+                                for cc in 0..dim {
+                                    let q = if constraints.identity[na] {
+                                        if i == cc {
+                                            1.0
+                                        } else {
+                                            0.0
+                                        }
+                                    } else {
+                                        qa[i][cc]
+                                    };
+                                    if q != 0.0 {
+                                        for d in 0..dim {
+                                            sum += q * at(b, cc, d) * ub[d];
+                                        }
+                                    }
+                                }
+                                add(&rhs[first[na] + i], -sum);
+                            }
+                            continue;
+                        }
+                        while pos < row.len() && row[pos] < nb {
+                            pos += 1;
+                        }
+                        if row.get(pos) != Some(&nb) {
                             continue; // unreachable: the graph holds every cell's nodes
-                        };
-                        for ci in 0..dim {
-                            let start = indptr[na as usize * dim + ci] + pos * dim;
-                            let local = (a * dim + ci) * size + b * dim;
-                            for d in 0..dim {
-                                let slot = &values[start + d];
-                                let sum = f64::from_bits(slot.load(Ordering::Relaxed))
-                                    + scratch.matrix[local + d];
-                                slot.store(sum.to_bits(), Ordering::Relaxed);
+                        }
+                        let column = columns[pos] as usize;
+                        let qb = &constraints.directions[nb_u];
+                        let both_free = constraints.identity[na] && constraints.identity[nb_u];
+                        for i in 0..ka {
+                            let start = pattern.indptr[first[na] + i] + column;
+                            for j in 0..kb {
+                                let value = if both_free {
+                                    at(b, i, j)
+                                } else {
+                                    let mut sum = 0.0;
+                                    for cc in 0..dim {
+                                        for d in 0..dim {
+                                            sum += qa[i][cc] * at(b, cc, d) * qb[j][d];
+                                        }
+                                    }
+                                    sum
+                                };
+                                add(&values[start + j], value);
                             }
                         }
                     }
@@ -138,13 +202,18 @@ pub(crate) fn assemble_with_progress(
             })?;
         progress(done as f64 / mesh.cells.len().max(1) as f64);
     }
-    let data: Vec<f64> = values
-        .into_iter()
-        .map(|v| f64::from_bits(v.into_inner()))
-        .collect();
-    let size = nodes * dim;
+    let unpack = |v: Vec<AtomicU64>| -> Vec<f64> {
+        v.into_par_iter()
+            .map(|v| f64::from_bits(v.into_inner()))
+            .collect()
+    };
+    let size = constraints.len();
+    let CondensedPattern {
+        indptr, indices, ..
+    } = pattern;
     Ok(Assembled {
-        matrix: StiffnessMatrix::new((size, size), indptr, indices, data),
+        matrix: StiffnessMatrix::new((size, size), indptr, indices, unpack(values)),
+        rhs: unpack(rhs),
         graph,
         cells_of_node,
     })

@@ -16,7 +16,9 @@
 use rayon::prelude::*;
 
 use crate::sparsity::Adjacency;
-use crate::{BoundaryConditions, StiffnessMatrix};
+use crate::BoundaryConditions;
+#[cfg(test)]
+use crate::StiffnessMatrix;
 
 /// The free directions of each node and the reduced numbering.
 #[derive(Debug, Clone)]
@@ -89,6 +91,20 @@ impl Constraints {
         constraints
     }
 
+    /// Every node free in every direction (T = I): the condensed system is K itself.
+    pub fn free(nodes: usize, dim: usize) -> Self {
+        let mut identity_rows = [[0.0; 3]; 3];
+        for d in 0..3 {
+            identity_rows[d][d] = 1.0;
+        }
+        Self::from_directions(
+            dim,
+            vec![dim as u8; nodes],
+            vec![identity_rows; nodes],
+            vec![true; nodes],
+        )
+    }
+
     /// Homogeneous constraints (u_p = 0) from each node's free directions.
     pub fn from_directions(
         dim: usize,
@@ -152,7 +168,83 @@ impl Constraints {
     }
 }
 
-/// Tᵀ K T, built node row by node row in parallel (rows are independent: reproducible).
+/// The sparsity pattern of Tᵀ K T: the k_n rows of node n each hold, for every neighbour m
+/// of n in the node graph (in its order), the k_m reduced dofs of m.
+pub(crate) struct CondensedPattern {
+    pub indptr: Vec<usize>,
+    pub indices: Vec<u32>,
+    /// Where each neighbour's columns start within a row of node n:
+    /// `offsets[row_start[n] + i]` for the i-th neighbour of n.
+    row_start: Vec<usize>,
+    offsets: Vec<u32>,
+}
+
+impl CondensedPattern {
+    /// Built node by node in parallel (rows are independent: reproducible).
+    pub fn new(graph: &Adjacency, constraints: &Constraints) -> Self {
+        let nodes = constraints.count.len();
+        let count = &constraints.count;
+        let mut row_start = Vec::with_capacity(nodes + 1);
+        row_start.push(0usize);
+        let mut offsets = Vec::new();
+        let mut indptr = Vec::with_capacity(constraints.len() + 1);
+        indptr.push(0usize);
+        for n in 0..nodes {
+            let mut len = 0u32;
+            for &m in graph.row(n) {
+                offsets.push(len);
+                len += count[m as usize] as u32;
+            }
+            row_start.push(offsets.len());
+            for _ in 0..count[n] {
+                indptr.push(indptr[indptr.len() - 1] + len as usize);
+            }
+        }
+        let nnz = indptr[indptr.len() - 1];
+        let mut indices = vec![0u32; nnz];
+        // One slice of `indices` per node, filled in parallel.
+        let mut parts = Vec::with_capacity(nodes);
+        let mut rest = indices.as_mut_slice();
+        for n in 0..nodes {
+            let len = indptr[constraints.first[n + 1]] - indptr[constraints.first[n]];
+            let (head, tail) = rest.split_at_mut(len);
+            parts.push(head);
+            rest = tail;
+        }
+        parts
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(64)
+            .for_each(|(n, idx)| {
+                let mut at = 0;
+                for _ in 0..count[n] {
+                    for &m in graph.row(n) {
+                        let m = m as usize;
+                        for j in 0..count[m] as usize {
+                            idx[at] = (constraints.first[m] + j) as u32;
+                            at += 1;
+                        }
+                    }
+                }
+            });
+        CondensedPattern {
+            indptr,
+            indices,
+            row_start,
+            offsets,
+        }
+    }
+
+    /// Start of each neighbour's columns within a row of node `n`, aligned with
+    /// `graph.row(n)`.
+    pub fn column_offsets(&self, n: usize) -> &[u32] {
+        &self.offsets[self.row_start[n]..self.row_start[n + 1]]
+    }
+}
+
+/// Tᵀ K T from an assembled K: the reference that the direct condensed assembly
+/// ([`crate::assembly`]) is tested against.
+#[cfg(test)]
 pub(crate) fn condense_matrix(
     k: &StiffnessMatrix,
     graph: &Adjacency,
@@ -163,75 +255,32 @@ pub(crate) fn condense_matrix(
     let k_ptr = k.indptr().into_raw_storage();
     let k_val = k.data();
     let count = &constraints.count;
-    // Row pointer: every reduced row of node n has Σ_{m ~ n} k_m entries.
-    let mut indptr = Vec::with_capacity(constraints.len() + 1);
-    indptr.push(0usize);
+    let pattern = CondensedPattern::new(graph, constraints);
+    let mut data = vec![0.0; pattern.indices.len()];
     for n in 0..nodes {
-        let len: usize = graph
-            .row(n)
-            .iter()
-            .map(|&m| count[m as usize] as usize)
-            .sum();
-        for _ in 0..count[n] {
-            indptr.push(indptr[indptr.len() - 1] + len);
-        }
-    }
-    let nnz = indptr[indptr.len() - 1];
-    let mut indices = vec![0u32; nnz];
-    let mut data = vec![0.0; nnz];
-    // Split the arrays into one slice per node, then fill nodes in parallel.
-    let mut index_parts = Vec::with_capacity(nodes);
-    let mut data_parts = Vec::with_capacity(nodes);
-    let (mut rest_i, mut rest_d) = (indices.as_mut_slice(), data.as_mut_slice());
-    for n in 0..nodes {
-        let len = indptr[constraints.first[n + 1]] - indptr[constraints.first[n]];
-        let (head_i, tail_i) = rest_i.split_at_mut(len);
-        let (head_d, tail_d) = rest_d.split_at_mut(len);
-        index_parts.push(head_i);
-        data_parts.push(head_d);
-        rest_i = tail_i;
-        rest_d = tail_d;
-    }
-    index_parts
-        .into_par_iter()
-        .zip(data_parts)
-        .enumerate()
-        .with_min_len(64)
-        .for_each(|(n, (idx, val))| {
-            let kn = count[n] as usize;
-            if kn == 0 {
-                return;
-            }
-            let row_len = idx.len() / kn;
-            let qn = &constraints.directions[n];
-            for i in 0..kn {
-                let mut at = i * row_len;
-                for (pos, &m) in graph.row(n).iter().enumerate() {
-                    let m = m as usize;
-                    let km = count[m] as usize;
-                    let qm = &constraints.directions[m];
-                    for j in 0..km {
-                        let value = if constraints.identity[n] && constraints.identity[m] {
-                            k_val[k_ptr[n * dim + i] + pos * dim + j]
-                        } else {
-                            let mut sum = 0.0;
-                            for c in 0..dim {
-                                let start = k_ptr[n * dim + c] + pos * dim;
-                                for d in 0..dim {
-                                    sum += qn[i][c] * k_val[start + d] * qm[j][d];
-                                }
-                            }
-                            sum
-                        };
-                        idx[at] = (constraints.first[m] + j) as u32;
-                        val[at] = value;
-                        at += 1;
+        let kn = count[n] as usize;
+        let qn = &constraints.directions[n];
+        for i in 0..kn {
+            let mut at = pattern.indptr[constraints.first[n] + i];
+            for (pos, &m) in graph.row(n).iter().enumerate() {
+                let m = m as usize;
+                let qm = &constraints.directions[m];
+                for j in 0..count[m] as usize {
+                    let mut sum = 0.0;
+                    for c in 0..dim {
+                        let start = k_ptr[n * dim + c] + pos * dim;
+                        for d in 0..dim {
+                            sum += qn[i][c] * k_val[start + d] * qm[j][d];
+                        }
                     }
+                    data[at] = sum;
+                    at += 1;
                 }
             }
-        });
+        }
+    }
     let size = constraints.len();
-    StiffnessMatrix::new((size, size), indptr, indices, data)
+    StiffnessMatrix::new((size, size), pattern.indptr, pattern.indices, data)
 }
 
 #[cfg(test)]

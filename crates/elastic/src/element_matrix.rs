@@ -24,6 +24,8 @@ pub(crate) struct ElementScratch {
     grads: Vec<[f64; 3]>,
     /// The element matrix, (n·dim)² row-major, dof (a, c) at a·dim + c.
     pub matrix: Vec<f64>,
+    /// The cell's local node indices in increasing global node order (for assembly).
+    pub order: Vec<usize>,
 }
 
 /// J⁻¹ (`inv[α][c]` = ∂ξ_α/∂x_c) and det J of `jac[c][α]` = ∂x_c/∂ξ_α, for dim 2 or 3.

@@ -29,10 +29,10 @@ use hocurve_mesh::HighOrderMesh;
 use hocurve_nodes::{ReferenceElement, Shape};
 use rayon::prelude::*;
 
-use crate::assembly::assemble_with_progress;
+use crate::assembly::assemble_condensed;
 use crate::block_jacobi::{dof_cuts, entity_node_cuts};
 use crate::block_matrix::{BlockOperator, BlockPattern};
-use crate::condensation::{condense_matrix, Constraints};
+use crate::condensation::Constraints;
 use crate::pcg::{LinearOperator, Preconditioner};
 use crate::smoother::{ChebyshevSmoother, SmootherScratch};
 use crate::sparse::{from_rows, transpose, Cholesky};
@@ -149,9 +149,14 @@ impl<'a> PMultigrid<'a> {
                 break;
             }
             // The coarse mesh has the fine mesh's cells, in the same order.
-            let assembled = assemble_with_progress(&coarse, material, stiffening, &mut |_| {})?;
-            let condensed =
-                condense_matrix(&assembled.matrix, &assembled.graph, &coarse_constraints);
+            let assembled = assemble_condensed(
+                &coarse,
+                material,
+                stiffening,
+                &coarse_constraints,
+                &mut |_| {},
+            )?;
+            let condensed = assembled.matrix;
             let level = LevelMesh {
                 mesh: std::borrow::Cow::Owned(coarse),
                 constraints: std::borrow::Cow::Owned(coarse_constraints),

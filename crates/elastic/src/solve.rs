@@ -4,13 +4,13 @@ use std::time::Instant;
 
 use hocurve_mesh::HighOrderMesh;
 
-use crate::assembly::{assemble_load, assemble_with_progress, Assembled, BodyForce};
+use crate::assembly::{assemble_condensed, assemble_load, Assembled, BodyForce};
 use crate::block_matrix::{BlockOperator, BlockPattern};
-use crate::condensation::{condense_matrix, Constraints};
+use crate::condensation::Constraints;
 use crate::p_multigrid::PMultigrid;
 use crate::pcg::{pcg_with_progress, LinearOperator};
 use crate::sparse::Cholesky;
-use crate::vector_ops::{norm, residual, spmv};
+use crate::vector_ops::{norm, residual};
 use crate::{BoundaryConditions, ElasticError, Material};
 
 /// Which linear solver to use.
@@ -221,28 +221,21 @@ fn solve(
         return Err(ElasticError::NoDirichlet);
     }
     let start = Instant::now();
-    let Assembled {
-        matrix: stiffness,
-        graph,
-        cells_of_node,
-    } = assemble_with_progress(mesh, material, stiffening, &mut |fraction| {
-        progress(SolveProgress::Assembly { fraction })
-    })?;
     let dim = mesh.dim;
     let constraints = Constraints::new(mesh.nodes.len(), dim, bc);
-    // r = F − K u_p, then b = Tᵀ r.
-    let mut full_rhs = vec![0.0; mesh.nodes.len() * dim];
-    spmv(&stiffness, &constraints.prescribed, &mut full_rhs);
-    full_rhs.iter_mut().for_each(|v| *v = -*v);
+    // b = Tᵀ (F − K u_p), the matrix Tᵀ K T, straight from the elements.
+    let Assembled {
+        matrix,
+        mut rhs,
+        graph,
+        cells_of_node,
+    } = assemble_condensed(mesh, material, stiffening, &constraints, &mut |fraction| {
+        progress(SolveProgress::Assembly { fraction })
+    })?;
     if let Some(f) = body_force {
-        let load = assemble_load(mesh, f)?;
-        full_rhs.iter_mut().zip(&load).for_each(|(r, l)| *r += l);
+        let load = constraints.restrict(&assemble_load(mesh, f)?);
+        rhs.iter_mut().zip(&load).for_each(|(r, l)| *r += l);
     }
-    let rhs = constraints.restrict(&full_rhs);
-    drop(full_rhs);
-    let matrix = condense_matrix(&stiffness, &graph, &constraints);
-    // The full matrix is as large as the condensed one: free it before solving.
-    drop(stiffness);
     let assembly_time = start.elapsed().as_secs_f64();
 
     let start = Instant::now();
