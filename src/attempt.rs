@@ -170,6 +170,9 @@ impl Attempt {
                 }
                 timings.assembly += solution.timings.assembly;
                 timings.solve += solution.timings.solve;
+                timings.solve_setup +=
+                    solution.timings.coarse_setup + solution.timings.smoother_setup;
+                timings.solve_iterations += solution.timings.iterations;
                 Ok(solution)
             };
             let region = match options.solve_region {
@@ -296,6 +299,7 @@ impl Attempt {
             iterations: self.solve.1,
             residual: self.solve.3,
             displacement_error_bound: self.displacement_error_bound,
+            peak_memory_mb: None,
             min_scaled_jacobian: summary.min_scaled_jacobian,
             invalid_elements: invalid_elements(&quality),
             certified_valid_elements: summary.validity.as_ref().map(|v| v.valid),

@@ -289,6 +289,7 @@ pub fn curve_and_write(
     timings.write = t.elapsed().as_secs_f64();
     timings.read = inputs.read_seconds;
     timings.total = inputs.read_seconds + start.elapsed().as_secs_f64();
+    curved.report.peak_memory_mb = crate::memory::peak_resident_bytes().map(|b| b / 1e6);
     if let Some(path) = &outputs.report {
         crate::written::write_report(&staged.stage(path), &curved)?;
     }

@@ -59,6 +59,15 @@ pub fn machine_memory() -> Option<f64> {
     Some(kib * 1024.0)
 }
 
+/// This process's peak resident memory in bytes (`VmHWM` of /proc/self/status), if it can
+/// be read.
+pub fn peak_resident_bytes() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = text.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -19,6 +19,11 @@ pub struct StepTimings {
     pub assembly: f64,
     /// Linear solve (including preconditioner setup).
     pub solve: f64,
+    /// Of `solve`: the preconditioner's set-up (coarser p-multigrid levels, the p = 1
+    /// factorisation, the smoothers); 0 for the direct solver.
+    pub solve_setup: f64,
+    /// Of `solve`: the CG iterations; 0 for the direct solver.
+    pub solve_iterations: f64,
     /// Quality assessment.
     pub quality: f64,
     /// The repair of elements not certified valid: the stiffened re-solve and untangling,
@@ -131,6 +136,9 @@ pub struct CurveReport {
     pub max_stretching: Option<f64>,
     /// Seconds per step.
     pub timings: StepTimings,
+    /// Peak resident memory of the process in MB (`VmHWM` of /proc/self/status, read after
+    /// writing the mesh); None where the system does not tell.
+    pub peak_memory_mb: Option<f64>,
 }
 
 impl CurveReport {

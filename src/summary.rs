@@ -137,6 +137,9 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             t.read, t.high_order_nodes, t.association, t.boundary_nodes, t.assembly, t.solve, t.quality, t.repair, t.write, t.total
         ),
     ));
+    if let Some(mb) = r.peak_memory_mb {
+        rows.push(("peak memory", format!("{:.0} MB", mb)));
+    }
     let width = rows.iter().map(|(k, _)| k.len()).max().unwrap_or(0);
     rows.iter()
         .map(|(key, value)| format!("  {key:<width$}  {value}\n"))

@@ -2,8 +2,12 @@
 """Gmsh's side of `cargo xtask bench`: the sphere-in-a-box of fixtures/make_fixtures.py,
 meshed by Gmsh, made high order by Gmsh, and measured.
 
-    bench_gmsh.py mesh OUT.msh              the linear mesh (also what hocurve curves)
+    bench_gmsh.py mesh OUT.msh [F]          the linear mesh (also what hocurve curves);
+                                            F scales every mesh size (Mesh.MeshSizeFactor)
     bench_gmsh.py project P OUT.json        setOrder(P): plain projection onto the CAD
+    bench_gmsh.py scale P F OUT.json        setOrder(P) on the mesh of size factor F: time,
+                                            element count and peak memory only (for
+                                            `cargo xtask bench --scale`)
     bench_gmsh.py elastic P OUT.json        setOrder(P) then optimize("HighOrderElastic")
     bench_gmsh.py measure P MESH.msh OUT.json   measure a high-order mesh (hocurve's)
 
@@ -21,6 +25,7 @@ I = min det J / max det J over the degree-2p Gauss points of each element
 
 import json
 import os
+import resource
 import sys
 import time
 
@@ -32,8 +37,9 @@ sys.path.insert(0, os.path.join(HERE, "..", "..", "fixtures"))
 import make_fixtures  # noqa: E402
 
 
-def linear_mesh():
+def linear_mesh(factor=1.0):
     make_fixtures.sphere_model()
+    gmsh.option.setNumber("Mesh.MeshSizeFactor", factor)
     gmsh.model.mesh.generate(3)
 
 
@@ -60,12 +66,31 @@ def measure(p):
 def main():
     mode = sys.argv[1]
     if mode == "mesh":
-        linear_mesh()
+        linear_mesh(float(sys.argv[3]) if len(sys.argv) > 3 else 1.0)
         gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
         gmsh.write(sys.argv[2])
         gmsh.finalize()
         return 0
     p = int(sys.argv[2])
+    if mode == "scale":
+        linear_mesh(float(sys.argv[3]))
+        threads = os.cpu_count() or 1
+        gmsh.option.setNumber("General.NumThreads", threads)
+        gmsh.option.setNumber("Mesh.MaxNumThreads3D", threads)
+        before = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+        start = time.perf_counter()
+        gmsh.model.mesh.setOrder(p)
+        projection = time.perf_counter() - start
+        etype = gmsh.model.mesh.getElementType("Tetrahedron", p)
+        tags, _ = gmsh.model.mesh.getElementsByType(etype)
+        result = {"set_order_seconds": projection, "elements": int(len(tags)),
+                  "threads": threads,
+                  "peak_rss_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0,
+                  "peak_rss_mb_before_set_order": before / 1024.0}
+        gmsh.finalize()
+        with open(sys.argv[4], "w") as f:
+            json.dump(result, f, indent=1)
+        return 0
     if mode == "measure":
         gmsh.initialize(["-noenv"])
         gmsh.option.setNumber("General.Terminal", 0)
