@@ -21,10 +21,12 @@ use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, 
 use crate::report::{CurveReport, StepTimings};
 
 /// The displacement error CG may leave, relative to the shortest edge of the mesh: it
-/// changes any element's Jacobian by about this fraction, far below what the quality is
-/// reported to, and (the shortest edge being below the bounding box) far below the geometry
-/// tolerance of 1e-4 of the bounding box.
-const DISPLACEMENT_ACCURACY: f64 = 1e-6;
+/// changes any element's Jacobian by about this fraction (boundary nodes are exact, the
+/// elastic field only moves interior nodes), below the four digits the quality is reported
+/// to, and every element is certified on the written nodes afterwards. Measured on the
+/// boundary-layer tetrahedra (`fixtures/cad/sphere_layers`, stretch 288, p = 4): 87 / 61 /
+/// 34 iterations at 1e-6 / 1e-4 / 1e-2 with the certified min Ĩ 0.7369 / 0.7369 / 0.7367.
+const DISPLACEMENT_ACCURACY: f64 = 1e-4;
 
 /// `options` with, unless set, CG's displacement tolerance tied to the shortest edge of
 /// `mesh` ([`DISPLACEMENT_ACCURACY`]).
