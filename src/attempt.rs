@@ -33,15 +33,7 @@ const DISPLACEMENT_ACCURACY: f64 = 1e-4;
 fn solver_options(options: &SolverOptions, mesh: &HighOrderMesh) -> SolverOptions {
     let mut options = options.clone();
     if options.displacement_tolerance.is_none() {
-        let shortest = mesh
-            .topology()
-            .edges()
-            .iter()
-            .map(|&[a, b]| {
-                let (x, y) = (mesh.nodes[a as usize], mesh.nodes[b as usize]);
-                (0..3).map(|k| (x[k] - y[k]).powi(2)).sum::<f64>().sqrt()
-            })
-            .fold(f64::INFINITY, f64::min);
+        let shortest = mesh.shortest_edge().unwrap_or(f64::NAN);
         if shortest.is_finite() && shortest > 0.0 {
             options.displacement_tolerance = Some(DISPLACEMENT_ACCURACY * shortest);
         }

@@ -15,6 +15,7 @@
 use hocurve_mesh::HighOrderMesh;
 use rayon::prelude::*;
 
+use crate::vector_ops::split_into;
 use crate::StiffnessMatrix;
 
 /// Blocks larger than this (dofs) are split at node boundaries: only hexahedra and prisms
@@ -138,13 +139,10 @@ impl BlockJacobi {
         }
         let mut inverses = vec![0.0; offsets[blocks]];
         // One slice per block, filled in parallel.
-        let mut parts = Vec::with_capacity(blocks);
-        let mut rest = inverses.as_mut_slice();
-        for b in 0..blocks {
-            let (head, tail) = rest.split_at_mut(offsets[b + 1] - offsets[b]);
-            parts.push(head);
-            rest = tail;
-        }
+        let parts = split_into(
+            &mut inverses,
+            (0..blocks).map(|b| offsets[b + 1] - offsets[b]),
+        );
         parts
             .into_par_iter()
             .enumerate()

@@ -16,6 +16,7 @@
 use rayon::prelude::*;
 
 use crate::sparsity::Adjacency;
+use crate::vector_ops::split_into;
 use crate::BoundaryConditions;
 #[cfg(test)]
 use crate::StiffnessMatrix;
@@ -203,14 +204,10 @@ impl CondensedPattern {
         let nnz = indptr[indptr.len() - 1];
         let mut indices = vec![0u32; nnz];
         // One slice of `indices` per node, filled in parallel.
-        let mut parts = Vec::with_capacity(nodes);
-        let mut rest = indices.as_mut_slice();
-        for n in 0..nodes {
-            let len = indptr[constraints.first[n + 1]] - indptr[constraints.first[n]];
-            let (head, tail) = rest.split_at_mut(len);
-            parts.push(head);
-            rest = tail;
-        }
+        let parts = split_into(
+            &mut indices,
+            (0..nodes).map(|n| indptr[constraints.first[n + 1]] - indptr[constraints.first[n]]),
+        );
         parts
             .into_par_iter()
             .enumerate()

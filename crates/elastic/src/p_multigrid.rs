@@ -29,6 +29,7 @@ use hocurve_mesh::HighOrderMesh;
 use hocurve_nodes::{ReferenceElement, Shape};
 use rayon::prelude::*;
 
+use crate::aggregation::aggregation_level;
 use crate::assembly::assemble_condensed;
 use crate::block_jacobi::{dof_cuts, entity_node_cuts};
 use crate::block_matrix::{BlockOperator, BlockPattern};
@@ -38,7 +39,7 @@ use crate::smoother::{ChebyshevSmoother, SmootherScratch};
 use crate::sparse::{from_rows, transpose, Cholesky};
 use crate::sparsity::Adjacency;
 use crate::vector_ops::spmv;
-use crate::{ElasticError, Material, StiffnessMatrix};
+use crate::{ElasticError, Material, SolverOptions, StiffnessMatrix};
 
 /// The orders of the hierarchy for a mesh of order p: p, p − 1, …, 1.
 ///
@@ -90,7 +91,8 @@ struct LevelMesh<'m> {
 impl<'a> PMultigrid<'a> {
     /// The preconditioner of `matrix`, the condensed stiffness matrix of `mesh` under
     /// `constraints`; the finest smoother's mat-vecs go through `a`, an operator equal (or
-    /// close) to `matrix`. `degree` is the Chebyshev degree of every smoother.
+    /// close) to `matrix`. `options` give the Chebyshev degree of every smoother and the size
+    /// above which the p = 1 level is aggregated rather than factorised.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
         matrix: &'a StiffnessMatrix,
@@ -100,8 +102,9 @@ impl<'a> PMultigrid<'a> {
         cells_of_node: &Adjacency,
         material: &Material,
         stiffening: Option<&[f64]>,
-        degree: usize,
+        options: &SolverOptions,
     ) -> Result<Self, ElasticError> {
+        let degree = options.smoother_degree;
         let start = Instant::now();
         if mesh.order <= 1 {
             // The coarse problem is the problem: solve it exactly.
@@ -135,6 +138,7 @@ impl<'a> PMultigrid<'a> {
             &mut smoother_seconds,
         )];
         let mut coarsest_matrix = None;
+        let mut aggregation = None;
         // Only a mesh whose layout describes its nodes (always, unless built by hand) gets
         // coarser levels: without them the preconditioner degrades, the solve stays correct.
         let layout_ok = mesh.expected_node_count() == mesh.nodes.len()
@@ -162,7 +166,18 @@ impl<'a> PMultigrid<'a> {
                 constraints: std::borrow::Cow::Owned(coarse_constraints),
                 cells_of_node: std::borrow::Cow::Owned(assembled.cells_of_node),
             };
-            if q == 1 {
+            let aggregated = q == 1 && condensed.rows() > options.coarse_direct_limit;
+            if aggregated {
+                let (p, coarse) = aggregation_level(
+                    &condensed,
+                    &assembled.graph,
+                    &level.constraints,
+                    &level.mesh.nodes,
+                );
+                aggregation = Some(p);
+                coarsest_matrix = Some(coarse);
+            }
+            if q == 1 && !aggregated {
                 // Factorised below.
                 coarsest_matrix = Some(condensed);
             } else {
@@ -182,12 +197,15 @@ impl<'a> PMultigrid<'a> {
             }
             level_meshes.push(level);
         }
-        let prolongations = level_meshes
+        let mut prolongations = level_meshes
             .windows(2)
             .map(|pair| prolongation(&pair[0], &pair[1]))
             .collect::<Result<Vec<_>, _>>()?;
-        // The p = 1 matrix, if the hierarchy reached it, is factorised; if the hierarchy
-        // stopped early (no free vertex), the last level has no coarse correction.
+        // Below a smoothed p = 1 level: the aggregates.
+        prolongations.extend(aggregation);
+        // The p = 1 matrix (or, above DIRECT_COARSE_LIMIT unknowns, its aggregates'), if the
+        // hierarchy reached it, is factorised; if the hierarchy stopped early (no free
+        // vertex), the last level has no coarse correction.
         let coarsest = coarsest_matrix
             .map(|m| Cholesky::new(&m, "coarse matrix"))
             .transpose()?;

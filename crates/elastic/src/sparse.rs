@@ -55,9 +55,9 @@ pub(crate) fn transpose(a: &StiffnessMatrix) -> StiffnessMatrix {
     StiffnessMatrix::new((ncols, nrows), out_ptr, out_idx, out_val)
 }
 
-/// A B (tests: Galerkin products), row by row in parallel; each row is accumulated in a fixed order (A's entries in
-/// order, then B's), so the result is thread-count independent.
-#[cfg(test)]
+/// A B (the aggregation level's Galerkin product Pᵀ A P), row by row in parallel; each row
+/// is accumulated in a fixed order (A's entries in order, then B's), so the result is
+/// thread-count independent.
 pub(crate) fn product(a: &StiffnessMatrix, b: &StiffnessMatrix) -> StiffnessMatrix {
     use rayon::prelude::*;
     let (a_ptr, a_idx, a_val) = raw(a);

@@ -12,6 +12,20 @@ const CHUNK: usize = 4096;
 /// Rows per parallel task in a mat-vec.
 const ROWS_PER_TASK: usize = 256;
 
+/// `data` cut into consecutive pieces of the given lengths (for filling them in parallel).
+pub(crate) fn split_into<T>(
+    mut data: &mut [T],
+    lengths: impl IntoIterator<Item = usize>,
+) -> Vec<&mut [T]> {
+    let mut parts = Vec::new();
+    for len in lengths {
+        let (head, tail) = std::mem::take(&mut data).split_at_mut(len);
+        parts.push(head);
+        data = tail;
+    }
+    parts
+}
+
 /// y = A x.
 pub(crate) fn spmv(a: &StiffnessMatrix, x: &[f64], y: &mut [f64]) {
     let indptr = a.indptr().into_raw_storage();

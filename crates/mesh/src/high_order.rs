@@ -356,6 +356,19 @@ impl HighOrderMesh {
         Self::straight_sided(&linear, order, self.family)
     }
 
+    /// The length of the shortest mesh edge, vertex to vertex (straight); `None` without
+    /// edges.
+    pub fn shortest_edge(&self) -> Option<f64> {
+        self.topology()
+            .edges()
+            .iter()
+            .map(|&[a, b]| {
+                let (x, y) = (self.nodes[a as usize], self.nodes[b as usize]);
+                (0..3).map(|k| (x[k] - y[k]).powi(2)).sum::<f64>().sqrt()
+            })
+            .min_by(f64::total_cmp)
+    }
+
     /// Number of nodes the layout predicts: V + E(p−1) + Σ faces' interiors + Σ cells'
     /// interiors.
     pub fn expected_node_count(&self) -> usize {

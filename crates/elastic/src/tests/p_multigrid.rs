@@ -234,7 +234,7 @@ fn iterations(n: usize, p: usize) -> (usize, usize) {
         &cells_of_node,
         &Material::default(),
         None,
-        3,
+        &crate::SolverOptions::default(),
     )
     .unwrap();
     let mut x = vec![0.0; rhs.len()];
@@ -260,4 +260,48 @@ fn iterations_stay_nearly_flat_in_p() {
     // Point Jacobi grows with p and needs many times more.
     assert!(counts[4].1 > 3 * counts[1].1, "{counts:?}");
     assert!(counts[4].0 * 10 < counts[4].1, "{counts:?}");
+}
+
+#[test]
+fn an_aggregated_p1_level_keeps_pcg_converging_to_the_same_solution() {
+    let (mesh, a, rhs, constraints, graph) = cube_system(6, 3, true);
+    let cells_of_node = crate::sparsity::node_cells(&mesh);
+    let pattern = BlockPattern::new(&a, &graph, &constraints).unwrap();
+    let single = BlockOperator::single(pattern, &a);
+    let solve = |coarse_direct_limit: usize| {
+        let options = crate::SolverOptions {
+            coarse_direct_limit,
+            ..Default::default()
+        };
+        let mut multigrid = PMultigrid::new(
+            &a,
+            &single,
+            &constraints,
+            &mesh,
+            &cells_of_node,
+            &Material::default(),
+            None,
+            &options,
+        )
+        .unwrap();
+        let levels = multigrid.levels.len();
+        let mut x = vec![0.0; rhs.len()];
+        let its = pcg(&a, &rhs, &mut x, &mut multigrid, 1e-10, 5000);
+        (x, its, levels)
+    };
+    let (direct, direct_its, direct_levels) = solve(usize::MAX);
+    let (aggregated, aggregated_its, aggregated_levels) = solve(0);
+    // One more smoothed level (p = 1), then the aggregates.
+    assert_eq!(aggregated_levels, direct_levels + 1);
+    println!("iterations: direct p = 1 solve {direct_its}, aggregates {aggregated_its}");
+    assert!(
+        aggregated_its <= 3 * direct_its,
+        "{aggregated_its} vs {direct_its}"
+    );
+    let scale = direct.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let difference = direct
+        .iter()
+        .zip(&aggregated)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(difference <= 1e-8 * scale, "{difference:e} of {scale:e}");
 }

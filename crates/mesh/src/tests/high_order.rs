@@ -351,3 +351,24 @@ fn straight_of_order_rebuilds_the_mesh_of_another_order_with_the_same_entities()
         }
     }
 }
+
+#[test]
+fn the_shortest_edge_is_measured_between_vertices() {
+    // A right triangle with legs 3 and 0.5 (hypotenuse √9.25): the shortest edge is 0.5 at
+    // any order (edge nodes do not split it).
+    let linear = LinearMesh {
+        dim: 2,
+        vertices: vec![[0.0, 0.0, 0.0], [3.0, 0.0, 0.0], [0.0, 0.5, 0.0]],
+        cells: vec![Element {
+            kind: Shape::Tri,
+            vertices: vec![0, 1, 2],
+            entity: 1,
+        }],
+        ..Default::default()
+    };
+    for p in 1..=4 {
+        let mesh =
+            HighOrderMesh::from_linear(&linear, p, hocurve_nodes::NodeFamily::Fekete).unwrap();
+        assert_eq!(mesh.shortest_edge(), Some(0.5));
+    }
+}
