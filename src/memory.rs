@@ -5,11 +5,12 @@
 use hocurve_mesh::{LinearMesh, MeshError, Topology};
 use hocurve_nodes::Shape;
 
-/// Bytes per unknown per node of an element, measured (release, 2 threads) on 19 k
-/// boundary-layer tetrahedra: 958 MB peak at p = 3 (252 k unknowns, 20 nodes per element:
-/// 190 bytes), 3.42 GB at p = 4 (602 k unknowns, 35 nodes: 162 bytes); the stiffness rows
-/// grow with the nodes an unknown shares elements with, the p-multigrid levels follow.
-pub const BYTES_PER_UNKNOWN_AND_ELEMENT_NODE: f64 = 190.0;
+/// Bytes per unknown per node of an element, measured (release, 2 threads, peak resident
+/// memory): 146 on 19 k boundary-layer tetrahedra at p = 4 (630 k unknowns, 35 nodes per
+/// element, 3.2 GB), 149 and 153 on 97 k and 279 k sphere tetrahedra at p = 3 (1.4 M and
+/// 3.9 M unknowns, 20 nodes: 4.1 and 11.9 GB); the stiffness rows grow with the nodes an
+/// unknown shares elements with, the p-multigrid levels follow. With a margin of ~10 %.
+pub const BYTES_PER_UNKNOWN_AND_ELEMENT_NODE: f64 = 170.0;
 
 /// The size of the order-`order` mesh of `linear` and its estimated peak memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
