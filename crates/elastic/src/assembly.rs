@@ -202,8 +202,11 @@ pub(crate) fn assemble_condensed(
             })?;
         progress(done as f64 / mesh.cells.len().max(1) as f64);
     }
+    // Sequential on purpose: `into_iter().map().collect()` reuses the allocation (same size
+    // and alignment), where a parallel collect would hold both arrays, 16 bytes per entry,
+    // at the peak of the whole run.
     let unpack = |v: Vec<AtomicU64>| -> Vec<f64> {
-        v.into_par_iter()
+        v.into_iter()
             .map(|v| f64::from_bits(v.into_inner()))
             .collect()
     };

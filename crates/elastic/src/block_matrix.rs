@@ -175,13 +175,15 @@ impl BlockPattern {
     }
 }
 
-/// A condensed matrix for mat-vecs: its node-block pattern with an f32 copy of its values.
-pub(crate) struct BlockOperator {
+/// A condensed matrix for mat-vecs: its node-block pattern with its values, in f32 for the
+/// smoothers or in f64 for CG (where the block form's gain is the memory of the column
+/// indices, a quarter of the CSR matrix, not speed).
+pub(crate) struct BlockOperator<T = f32> {
     pattern: BlockPattern,
-    values: Vec<f32>,
+    values: Vec<T>,
 }
 
-impl BlockOperator {
+impl BlockOperator<f32> {
     /// A copy of A's values rounded to f32.
     pub fn single(pattern: BlockPattern, a: &StiffnessMatrix) -> Self {
         BlockOperator {
@@ -189,7 +191,17 @@ impl BlockOperator {
             values: a.data().par_iter().map(|&v| v as f32).collect(),
         }
     }
+}
 
+impl BlockOperator<f64> {
+    /// A itself, taking its values (in CSR order) and dropping its indices.
+    pub fn double(pattern: BlockPattern, a: StiffnessMatrix) -> Self {
+        let (_, _, values) = a.into_raw_storage();
+        BlockOperator { pattern, values }
+    }
+}
+
+impl<T: Copy + Into<f64> + Sync> BlockOperator<T> {
     /// y = A x.
     pub fn apply(&self, x: &[f64], y: &mut [f64]) {
         self.pattern.apply(&self.values, x, y);

@@ -93,9 +93,14 @@ impl<'a> PMultigrid<'a> {
     /// `constraints`; the finest smoother's mat-vecs go through `a`, an operator equal (or
     /// close) to `matrix`. `options` give the Chebyshev degree of every smoother and the size
     /// above which the p = 1 level is aggregated rather than factorised.
+    ///
+    /// Also returns `matrix` as CG's operator: in the f64 node-block form of `exact_pattern`
+    /// when given, converted as soon as the finest smoother is built, so that the CSR column
+    /// indices (a quarter of the matrix) are freed before the coarser levels are assembled.
     #[allow(clippy::too_many_arguments)]
     pub fn new(
-        matrix: &'a StiffnessMatrix,
+        matrix: StiffnessMatrix,
+        exact_pattern: Option<BlockPattern>,
         a: &'a dyn LinearOperator,
         constraints: &Constraints,
         mesh: &HighOrderMesh,
@@ -103,17 +108,25 @@ impl<'a> PMultigrid<'a> {
         material: &Material,
         stiffening: Option<&[f64]>,
         options: &SolverOptions,
-    ) -> Result<Self, ElasticError> {
+    ) -> Result<(Self, Box<dyn LinearOperator>), ElasticError> {
         let degree = options.smoother_degree;
         let start = Instant::now();
+        let exact = |matrix: StiffnessMatrix| -> Box<dyn LinearOperator> {
+            match exact_pattern {
+                Some(p) => Box::new(BlockOperator::double(p, matrix)),
+                None => Box::new(matrix),
+            }
+        };
         if mesh.order <= 1 {
             // The coarse problem is the problem: solve it exactly.
-            return Ok(PMultigrid {
+            let coarsest = Some(Cholesky::new(&matrix, "coarse matrix")?);
+            let multigrid = PMultigrid {
                 levels: Vec::new(),
-                coarsest: Some(Cholesky::new(matrix, "coarse matrix")?),
+                coarsest,
                 coarse_seconds: start.elapsed().as_secs_f64(),
                 smoother_seconds: 0.0,
-            });
+            };
+            return Ok((multigrid, exact(matrix)));
         }
         let mut smoother_seconds = 0.0;
         let smoothed = |matrix: &StiffnessMatrix,
@@ -132,11 +145,12 @@ impl<'a> PMultigrid<'a> {
             cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
         }];
         let mut smoothers = vec![smoothed(
-            matrix,
+            &matrix,
             Box::new(a),
             &level_meshes[0],
             &mut smoother_seconds,
         )];
+        let exact = exact(matrix);
         let mut coarsest_matrix = None;
         let mut aggregation = None;
         // Only a mesh whose layout describes its nodes (always, unless built by hand) gets
@@ -232,12 +246,13 @@ impl<'a> PMultigrid<'a> {
                 coarse_solution: vec![0.0; coarse_size],
             });
         }
-        Ok(PMultigrid {
+        let multigrid = PMultigrid {
             levels,
             coarsest,
             coarse_seconds,
             smoother_seconds,
-        })
+        };
+        Ok((multigrid, exact))
     }
 }
 

@@ -48,7 +48,7 @@ impl LinearOperator for StiffnessMatrix {
     }
 }
 
-impl LinearOperator for BlockOperator {
+impl<T: Copy + Into<f64> + Sync> LinearOperator for BlockOperator<T> {
     fn apply(&self, x: &[f64], y: &mut [f64]) {
         BlockOperator::apply(self, x, y);
     }

@@ -43,15 +43,6 @@ pub(crate) fn spmv(a: &StiffnessMatrix, x: &[f64], y: &mut [f64]) {
         });
 }
 
-/// r = b − A x.
-pub(crate) fn residual(a: &StiffnessMatrix, b: &[f64], x: &[f64], r: &mut [f64]) {
-    spmv(a, x, r);
-    r.par_iter_mut()
-        .with_min_len(CHUNK)
-        .zip(b)
-        .for_each(|(ri, bi)| *ri = bi - *ri);
-}
-
 /// Σ aᵢ bᵢ, summed per chunk, chunks in order.
 pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
     let partial: Vec<f64> = a

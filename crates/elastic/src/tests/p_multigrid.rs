@@ -226,8 +226,9 @@ fn iterations(n: usize, p: usize) -> (usize, usize) {
     let cells_of_node = crate::sparsity::node_cells(&mesh);
     let pattern = BlockPattern::new(&a, &graph, &constraints).unwrap();
     let single = BlockOperator::single(pattern, &a);
-    let mut multigrid = PMultigrid::new(
-        &a,
+    let (mut multigrid, _) = PMultigrid::new(
+        a.clone(),
+        None,
         &single,
         &constraints,
         &mesh,
@@ -273,8 +274,9 @@ fn an_aggregated_p1_level_keeps_pcg_converging_to_the_same_solution() {
             coarse_direct_limit,
             ..Default::default()
         };
-        let mut multigrid = PMultigrid::new(
-            &a,
+        let (mut multigrid, _) = PMultigrid::new(
+            a.clone(),
+            None,
             &single,
             &constraints,
             &mesh,

@@ -42,6 +42,6 @@ fn dot_and_spmv_are_exact_on_integers_and_thread_independent() {
     }
     assert_eq!(y[0], -1.0);
     let mut r = vec![0.0; m];
-    residual(&a, &y, &x, &mut r);
+    crate::pcg::LinearOperator::residual(&a, &y, &x, &mut r);
     assert!(r.iter().all(|&v| v == 0.0));
 }
