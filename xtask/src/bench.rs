@@ -30,15 +30,7 @@ pub fn bench(args: &[String]) -> Result<()> {
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
-            "--orders" => {
-                orders = it
-                    .next()
-                    .context("--orders needs a list, e.g. 2,3")?
-                    .split(',')
-                    .map(|s| s.trim().parse::<usize>())
-                    .collect::<Result<_, _>>()
-                    .context("--orders: a comma-separated list of orders")?;
-            }
+            "--orders" => orders = list_argument(it.next(), "--orders", "2,3")?,
             "--gmsh-timeout" => {
                 timeout = it
                     .next()
@@ -159,6 +151,23 @@ pub fn bench(args: &[String]) -> Result<()> {
         if all_met { "met" } else { "NOT met" }
     );
     Ok(())
+}
+
+/// A comma-separated list given after `flag` (`example` shows one).
+pub(crate) fn list_argument<T: std::str::FromStr>(
+    value: Option<&String>,
+    flag: &str,
+    example: &str,
+) -> Result<Vec<T>>
+where
+    T::Err: std::error::Error + Send + Sync + 'static,
+{
+    value
+        .with_context(|| format!("{flag} needs a list, e.g. {example}"))?
+        .split(',')
+        .map(|s| s.trim().parse::<T>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("{flag}: a comma-separated list, e.g. {example}"))
 }
 
 fn rayon_threads() -> String {

@@ -14,6 +14,7 @@ use std::process::Command;
 use anyhow::{bail, Context, Result};
 use serde_json::Value;
 
+use crate::bench::list_argument;
 use crate::{cargo, python_env, root, run, target_dir};
 
 /// Size factors giving about 100 k, 280 k and 950 k tetrahedra.
@@ -32,15 +33,7 @@ pub fn scale(args: &[String]) -> Result<()> {
     let mut it = args.iter();
     while let Some(a) = it.next() {
         match a.as_str() {
-            "--factors" => {
-                factors = it
-                    .next()
-                    .context("--factors needs a list, e.g. 0.36,0.25")?
-                    .split(',')
-                    .map(|s| s.trim().parse::<f64>())
-                    .collect::<Result<_, _>>()
-                    .context("--factors: a comma-separated list of numbers")?;
-            }
+            "--factors" => factors = list_argument(it.next(), "--factors", "0.36,0.25")?,
             "--order" => {
                 order = it
                     .next()

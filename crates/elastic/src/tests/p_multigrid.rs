@@ -220,24 +220,41 @@ fn reassembled_coarse_matrices_are_the_galerkin_products() {
     }
 }
 
-/// PCG iterations with the p-multigrid preconditioner and with point Jacobi.
-fn iterations(n: usize, p: usize) -> (usize, usize) {
-    let (mesh, a, rhs, constraints, graph) = cube_system(n, p, true);
-    let cells_of_node = crate::sparsity::node_cells(&mesh);
-    let pattern = BlockPattern::new(&a, &graph, &constraints).unwrap();
-    let single = BlockOperator::single(pattern, &a);
-    let (mut multigrid, _) = PMultigrid::new(
+/// The p-multigrid of the condensed matrix `a` of `mesh`, smoothing with `single`.
+fn multigrid<'a>(
+    a: &StiffnessMatrix,
+    single: &'a BlockOperator,
+    constraints: &Constraints,
+    mesh: &HighOrderMesh,
+    options: &crate::SolverOptions,
+) -> PMultigrid<'a> {
+    let cells_of_node = crate::sparsity::node_cells(mesh);
+    PMultigrid::new(
         a.clone(),
         None,
-        &single,
-        &constraints,
-        &mesh,
+        single,
+        constraints,
+        mesh,
         &cells_of_node,
         &Material::default(),
         None,
-        &crate::SolverOptions::default(),
+        options,
     )
-    .unwrap();
+    .unwrap()
+    .0
+}
+
+/// PCG iterations with the p-multigrid preconditioner and with point Jacobi.
+fn iterations(n: usize, p: usize) -> (usize, usize) {
+    let (mesh, a, rhs, constraints, graph) = cube_system(n, p, true);
+    let single = BlockOperator::single(BlockPattern::new(&a, &graph, &constraints).unwrap(), &a);
+    let mut multigrid = multigrid(
+        &a,
+        &single,
+        &constraints,
+        &mesh,
+        &crate::SolverOptions::default(),
+    );
     let mut x = vec![0.0; rhs.len()];
     let with_multigrid = pcg(&a, &rhs, &mut x, &mut multigrid, 1e-10, 5000);
     let diagonal = (0..a.rows())
@@ -266,26 +283,13 @@ fn iterations_stay_nearly_flat_in_p() {
 #[test]
 fn an_aggregated_p1_level_keeps_pcg_converging_to_the_same_solution() {
     let (mesh, a, rhs, constraints, graph) = cube_system(6, 3, true);
-    let cells_of_node = crate::sparsity::node_cells(&mesh);
-    let pattern = BlockPattern::new(&a, &graph, &constraints).unwrap();
-    let single = BlockOperator::single(pattern, &a);
+    let single = BlockOperator::single(BlockPattern::new(&a, &graph, &constraints).unwrap(), &a);
     let solve = |coarse_direct_limit: usize| {
         let options = crate::SolverOptions {
             coarse_direct_limit,
             ..Default::default()
         };
-        let (mut multigrid, _) = PMultigrid::new(
-            a.clone(),
-            None,
-            &single,
-            &constraints,
-            &mesh,
-            &cells_of_node,
-            &Material::default(),
-            None,
-            &options,
-        )
-        .unwrap();
+        let mut multigrid = multigrid(&a, &single, &constraints, &mesh, &options);
         let levels = multigrid.levels.len();
         let mut x = vec![0.0; rhs.len()];
         let its = pcg(&a, &rhs, &mut x, &mut multigrid, 1e-10, 5000);
