@@ -6,11 +6,12 @@ use hocurve_mesh::{LinearMesh, MeshError, Topology};
 use hocurve_nodes::Shape;
 
 /// Bytes per unknown per node of an element, measured (release, 2 threads, peak resident
-/// memory): 146 on 19 k boundary-layer tetrahedra at p = 4 (630 k unknowns, 35 nodes per
-/// element, 3.2 GB), 149 and 153 on 97 k and 279 k sphere tetrahedra at p = 3 (1.4 M and
-/// 3.9 M unknowns, 20 nodes: 4.1 and 11.9 GB); the stiffness rows grow with the nodes an
-/// unknown shares elements with, the p-multigrid levels follow. With a margin of ~10 %.
-pub const BYTES_PER_UNKNOWN_AND_ELEMENT_NODE: f64 = 170.0;
+/// memory): 126 and 130 on 97 k and 279 k sphere tetrahedra at p = 3 (1.4 M and 3.9 M
+/// unknowns, 20 nodes per element: 3.4 and 10.1 GB), 117 on 19 k boundary-layer tetrahedra
+/// at p = 4 (630 k unknowns, 35 nodes: 2.6 GB), 90–93 on the torus and the IGES wing body
+/// at p = 4; the stiffness rows grow with the nodes an unknown shares elements with, the
+/// p-multigrid levels follow. With a margin of ~15 %.
+pub const BYTES_PER_UNKNOWN_AND_ELEMENT_NODE: f64 = 150.0;
 
 /// The size of the order-`order` mesh of `linear` and its estimated peak memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
