@@ -13,6 +13,7 @@
 use crate::condensation::Constraints;
 use crate::sparse::{from_rows, product, transpose};
 use crate::sparsity::Adjacency;
+use crate::vector_ops::{axpy, dot, norm};
 use crate::StiffnessMatrix;
 
 /// Above this many p = 1 unknowns, the p = 1 level is smoothed and corrected from the
@@ -127,8 +128,7 @@ fn tentative_prolongation(
                 .collect();
             let norm0 = norm(&col);
             for b in &basis {
-                let c: f64 = col.iter().zip(b).map(|(x, y)| x * y).sum();
-                col.iter_mut().zip(b).for_each(|(x, y)| *x -= c * y);
+                axpy(-dot(&col, b), b, &mut col);
             }
             let norm1 = norm(&col);
             if norm0 > 0.0 && norm1 > RANK_TOLERANCE * norm0 {
@@ -172,10 +172,6 @@ fn mean(points: impl Iterator<Item = [f64; 3]>) -> [f64; 3] {
 
 fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     (0..3).map(|d| (a[d] - b[d]).powi(2)).sum::<f64>().sqrt()
-}
-
-fn norm(v: &[f64]) -> f64 {
-    v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 #[cfg(test)]
