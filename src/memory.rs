@@ -13,6 +13,16 @@ use hocurve_nodes::Shape;
 /// p-multigrid levels follow. With a margin of ~15 %.
 pub const BYTES_PER_UNKNOWN_AND_ELEMENT_NODE: f64 = 150.0;
 
+/// Bytes per unknown on meshes of simplices, whose stiffness is applied cell by cell and
+/// never stored (`hocurve_elastic`'s matrix-free operator): this plus
+/// [`MATRIX_FREE_BYTES_PER_ELEMENT_NODE`] per node of an element. Measured: 670 and 690 on
+/// 97 k and 279 k sphere tetrahedra at p = 3 (1.2 M and 3.6 M unknowns: 0.84 and 2.5 GB),
+/// 940 on the 5.7 k-tet bundled sphere at p = 4 (where the mesh's fixed costs weigh more).
+/// With a margin of ~15 %.
+pub const MATRIX_FREE_BYTES_PER_UNKNOWN: f64 = 600.0;
+/// See [`MATRIX_FREE_BYTES_PER_UNKNOWN`]: the prolongations and cell lists grow with p.
+pub const MATRIX_FREE_BYTES_PER_ELEMENT_NODE: f64 = 10.0;
+
 /// The size of the order-`order` mesh of `linear` and its estimated peak memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Estimate {
@@ -21,7 +31,9 @@ pub struct Estimate {
     /// Unknowns of the elastic system (dim × nodes, before the boundary is condensed out).
     pub unknowns: u64,
     /// Estimated peak memory in bytes: unknowns × (largest nodes per element) ×
-    /// [`BYTES_PER_UNKNOWN_AND_ELEMENT_NODE`].
+    /// [`BYTES_PER_UNKNOWN_AND_ELEMENT_NODE`], or on simplices of order ≥ 2 unknowns ×
+    /// ([`MATRIX_FREE_BYTES_PER_UNKNOWN`] + nodes per element ×
+    /// [`MATRIX_FREE_BYTES_PER_ELEMENT_NODE`]).
     pub peak_bytes: f64,
 }
 
@@ -46,10 +58,21 @@ pub fn estimate(linear: &LinearMesh, order: usize) -> Result<Estimate, MeshError
         largest = largest.max(shape.num_nodes(order) as u64);
     }
     let unknowns = linear.dim as u64 * nodes;
+    let simplex = if linear.dim == 2 {
+        Shape::Tri
+    } else {
+        Shape::Tet
+    };
+    let matrix_free = order >= 2 && linear.cells.iter().all(|c| c.kind == simplex);
+    let per_unknown = if matrix_free {
+        MATRIX_FREE_BYTES_PER_UNKNOWN + largest as f64 * MATRIX_FREE_BYTES_PER_ELEMENT_NODE
+    } else {
+        largest as f64 * BYTES_PER_UNKNOWN_AND_ELEMENT_NODE
+    };
     Ok(Estimate {
         nodes,
         unknowns,
-        peak_bytes: unknowns as f64 * largest as f64 * BYTES_PER_UNKNOWN_AND_ELEMENT_NODE,
+        peak_bytes: unknowns as f64 * per_unknown,
     })
 }
 

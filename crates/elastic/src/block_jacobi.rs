@@ -124,34 +124,33 @@ pub(crate) fn invert_spd(m: &mut [f64], k: usize, out: &mut [f64]) {
     }
 }
 
+/// Where each k × k block over the ranges `cuts` starts in a packed array (`len = blocks + 1`).
+pub(crate) fn block_offsets(cuts: &[usize]) -> Vec<usize> {
+    let mut offsets = Vec::with_capacity(cuts.len());
+    offsets.push(0);
+    for w in cuts.windows(2) {
+        offsets.push(offsets[offsets.len() - 1] + (w[1] - w[0]) * (w[1] - w[0]));
+    }
+    offsets
+}
+
 impl BlockJacobi {
     /// The inverses of the diagonal blocks of `a` on the ranges `cuts` (`0 = c₀ < … = n`).
     /// Rows of `a` must have sorted columns.
     pub fn new(a: &StiffnessMatrix, cuts: &[usize]) -> Self {
         let ptr = a.indptr().into_raw_storage();
         let (idx, val) = (a.indices(), a.data());
+        let offsets = block_offsets(cuts);
         let blocks = cuts.len().saturating_sub(1);
-        let mut offsets = Vec::with_capacity(blocks + 1);
-        offsets.push(0);
-        for w in cuts.windows(2) {
-            let k = w[1] - w[0];
-            offsets.push(offsets[offsets.len() - 1] + k * k);
-        }
-        let mut inverses = vec![0.0; offsets[blocks]];
-        // One slice per block, filled in parallel.
-        let parts = split_into(
-            &mut inverses,
-            (0..blocks).map(|b| offsets[b + 1] - offsets[b]),
-        );
+        let mut dense = vec![0.0; offsets[blocks]];
+        let parts = split_into(&mut dense, (0..blocks).map(|b| offsets[b + 1] - offsets[b]));
         parts
             .into_par_iter()
             .enumerate()
             .with_min_len(64)
-            .for_each_init(Vec::new, |dense, (b, out)| {
+            .for_each(|(b, block)| {
                 let (start, end) = (cuts[b], cuts[b + 1]);
                 let k = end - start;
-                dense.clear();
-                dense.resize(k * k, 0.0);
                 for i in 0..k {
                     let row = start + i;
                     let cols = &idx[ptr[row]..ptr[row + 1]];
@@ -160,10 +159,29 @@ impl BlockJacobi {
                         if c as usize >= end {
                             break;
                         }
-                        dense[i * k + c as usize - start] = v;
+                        block[i * k + c as usize - start] = v;
                     }
                 }
-                invert_spd(dense, k, out);
+            });
+        Self::from_blocks(cuts, offsets, dense)
+    }
+
+    /// From the diagonal blocks themselves: block b (rows and columns `cuts[b]..cuts[b + 1]`,
+    /// k × k row-major) at `dense[offsets[b]..offsets[b + 1]]`, with `offsets` those of
+    /// [`block_offsets`]; inverted in place.
+    pub fn from_blocks(cuts: &[usize], offsets: Vec<usize>, mut dense: Vec<f64>) -> Self {
+        let blocks = cuts.len().saturating_sub(1);
+        let parts = split_into(&mut dense, (0..blocks).map(|b| offsets[b + 1] - offsets[b]));
+        parts
+            .into_par_iter()
+            .enumerate()
+            .with_min_len(64)
+            .for_each_init(Vec::new, |inverse, (b, block)| {
+                let k = cuts[b + 1] - cuts[b];
+                inverse.clear();
+                inverse.resize(k * k, 0.0);
+                invert_spd(block, k, inverse);
+                block.copy_from_slice(inverse);
             });
         let mut tasks = vec![0];
         for b in 0..blocks {
@@ -177,7 +195,7 @@ impl BlockJacobi {
         BlockJacobi {
             starts: cuts.to_vec(),
             offsets,
-            inverses,
+            inverses: dense,
             tasks,
         }
     }

@@ -4,7 +4,10 @@
 //! The unknown is the displacement of every node of a [`HighOrderMesh`](hocurve_mesh::HighOrderMesh), discretised with
 //! continuous isoparametric Lagrange elements of the mesh's order on every element type
 //! ([`assemble_stiffness`]). Boundary nodes are prescribed or slide along a wall
-//! ([`BoundaryConditions`]); the condensed system is solved by conjugate gradients preconditioned
+//! ([`BoundaryConditions`]). On meshes of straight simplices (what the curving solves on) the
+//! CG solver never assembles the stiffness: it applies it cell by cell from factors of the
+//! reference matrices (`matrix_free`; [`SolverOptions::matrix_free`]), with no matrix in
+//! memory. The condensed system is solved by conjugate gradients preconditioned
 //! with a p-multigrid V-cycle (orders p, p − 1, …, 1 on the same mesh, a Chebyshev smoother
 //! with block Jacobi over the dofs of each vertex, edge, face and cell interior, and an exact
 //! p = 1 solve), whose iteration count stays nearly flat in p, or by a sparse Cholesky factorisation ([`SolverKind`]). Results do not depend on the
@@ -50,6 +53,7 @@ mod condensation;
 mod element_matrix;
 mod error_norm;
 mod material;
+mod matrix_free;
 mod p_multigrid;
 mod pcg;
 mod reference_element;

@@ -34,10 +34,11 @@ use crate::assembly::assemble_condensed;
 use crate::block_jacobi::{dof_cuts, entity_node_cuts};
 use crate::block_matrix::{BlockOperator, BlockPattern};
 use crate::condensation::Constraints;
+use crate::matrix_free::MatrixFreeStiffness;
 use crate::pcg::{LinearOperator, Preconditioner};
 use crate::smoother::{ChebyshevSmoother, SmootherScratch};
 use crate::sparse::{from_rows, transpose, Cholesky};
-use crate::sparsity::Adjacency;
+use crate::sparsity::{node_cells, Adjacency};
 use crate::vector_ops::spmv;
 use crate::{ElasticError, Material, SolverOptions, StiffnessMatrix};
 
@@ -129,6 +130,77 @@ impl<'a> PMultigrid<'a> {
             return Ok((multigrid, exact(matrix)));
         }
         let mut smoother_seconds = 0.0;
+        let finest = LevelMesh {
+            mesh: std::borrow::Cow::Borrowed(mesh),
+            constraints: std::borrow::Cow::Borrowed(constraints),
+            cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
+        };
+        let smoother = {
+            let start = Instant::now();
+            let cuts = dof_cuts(&entity_node_cuts(mesh), &constraints.first);
+            let smoother = ChebyshevSmoother::new(&matrix, a, &cuts, degree);
+            smoother_seconds += start.elapsed().as_secs_f64();
+            smoother
+        };
+        let exact = exact(matrix);
+        let multigrid = Self::with_coarse_levels(
+            (Box::new(a), smoother),
+            finest,
+            material,
+            stiffening,
+            options,
+            false,
+            start,
+            smoother_seconds,
+        )?;
+        Ok((multigrid, exact))
+    }
+
+    /// The preconditioner of the matrix-free operator `a` of `mesh` under `constraints`:
+    /// its levels of order ≥ 2 matrix-free too, the p = 1 level assembled.
+    pub fn matrix_free(
+        a: &'a MatrixFreeStiffness,
+        constraints: &Constraints,
+        mesh: &HighOrderMesh,
+        cells_of_node: &Adjacency,
+        material: &Material,
+        stiffening: Option<&[f64]>,
+        options: &SolverOptions,
+    ) -> Result<Self, ElasticError> {
+        let start = Instant::now();
+        let finest = LevelMesh {
+            mesh: std::borrow::Cow::Borrowed(mesh),
+            constraints: std::borrow::Cow::Borrowed(constraints),
+            cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
+        };
+        let smoother = matrix_free_smoother(a, &finest, options.smoother_degree);
+        let smoother_seconds = start.elapsed().as_secs_f64();
+        Self::with_coarse_levels(
+            (Box::new(a), smoother),
+            finest,
+            material,
+            stiffening,
+            options,
+            true,
+            start,
+            smoother_seconds,
+        )
+    }
+
+    /// The hierarchy below the finest level (its operator and smoother given): the orders
+    /// p − 1, …, 1 on the same cells, matrix-free above p = 1 when `matrix_free`.
+    #[allow(clippy::too_many_arguments)]
+    fn with_coarse_levels(
+        finest: (Box<dyn LinearOperator + 'a>, ChebyshevSmoother),
+        finest_mesh: LevelMesh,
+        material: &Material,
+        stiffening: Option<&[f64]>,
+        options: &SolverOptions,
+        matrix_free: bool,
+        start: Instant,
+        mut smoother_seconds: f64,
+    ) -> Result<Self, ElasticError> {
+        let degree = options.smoother_degree;
         let smoothed = |matrix: &StiffnessMatrix,
                         operator: Box<dyn LinearOperator + 'a>,
                         level: &LevelMesh,
@@ -139,18 +211,14 @@ impl<'a> PMultigrid<'a> {
             *seconds += start.elapsed().as_secs_f64();
             (operator, smoother)
         };
+        let mesh = &*finest_mesh.mesh;
+        let constraints = &*finest_mesh.constraints;
+        let mut smoothers = vec![finest];
         let mut level_meshes = vec![LevelMesh {
             mesh: std::borrow::Cow::Borrowed(mesh),
             constraints: std::borrow::Cow::Borrowed(constraints),
-            cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
+            cells_of_node: finest_mesh.cells_of_node.clone(),
         }];
-        let mut smoothers = vec![smoothed(
-            &matrix,
-            Box::new(a),
-            &level_meshes[0],
-            &mut smoother_seconds,
-        )];
-        let exact = exact(matrix);
         let mut coarsest_matrix = None;
         let mut aggregation = None;
         // Only a mesh whose layout describes its nodes (always, unless built by hand) gets
@@ -165,6 +233,22 @@ impl<'a> PMultigrid<'a> {
             let coarse_constraints = carried_constraints(mesh, constraints, &coarse);
             if coarse_constraints.len() == 0 {
                 break;
+            }
+            if matrix_free && q >= 2 {
+                let cells_of_node = node_cells(&coarse);
+                let operator =
+                    MatrixFreeStiffness::new(&coarse, material, stiffening, &coarse_constraints)?;
+                let level = LevelMesh {
+                    mesh: std::borrow::Cow::Owned(coarse),
+                    constraints: std::borrow::Cow::Owned(coarse_constraints),
+                    cells_of_node: std::borrow::Cow::Owned(cells_of_node),
+                };
+                let begin = Instant::now();
+                let smoother = matrix_free_smoother(&operator, &level, degree);
+                smoother_seconds += begin.elapsed().as_secs_f64();
+                smoothers.push((Box::new(operator), smoother));
+                level_meshes.push(level);
+                continue;
             }
             // The coarse mesh has the fine mesh's cells, in the same order.
             let assembled = assemble_condensed(
@@ -246,14 +330,23 @@ impl<'a> PMultigrid<'a> {
                 coarse_solution: vec![0.0; coarse_size],
             });
         }
-        let multigrid = PMultigrid {
+        Ok(PMultigrid {
             levels,
             coarsest,
             coarse_seconds,
             smoother_seconds,
-        };
-        Ok((multigrid, exact))
+        })
     }
+}
+
+/// The entity-block Chebyshev smoother of a matrix-free level.
+fn matrix_free_smoother(
+    operator: &MatrixFreeStiffness,
+    level: &LevelMesh,
+    degree: usize,
+) -> ChebyshevSmoother {
+    let cuts = dof_cuts(&entity_node_cuts(&level.mesh), &level.constraints.first);
+    ChebyshevSmoother::from_block_jacobi(operator.block_jacobi(&cuts), operator, degree)
 }
 
 /// The free directions of the nodes of `coarse` (the same vertices, edges, faces and

@@ -57,8 +57,17 @@ impl ChebyshevSmoother {
         cuts: &[usize],
         degree: usize,
     ) -> Self {
+        Self::from_block_jacobi(BlockJacobi::new(matrix, cuts), a, degree)
+    }
+
+    /// The smoother with the block-Jacobi preconditioner `block_jacobi` of the operator `a`.
+    pub fn from_block_jacobi(
+        block_jacobi: BlockJacobi,
+        a: &dyn LinearOperator,
+        degree: usize,
+    ) -> Self {
         let mut smoother = ChebyshevSmoother {
-            block_jacobi: BlockJacobi::new(matrix, cuts),
+            block_jacobi,
             low: 0.0,
             high: 0.0,
             degree: degree.max(1),

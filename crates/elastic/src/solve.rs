@@ -8,9 +8,11 @@ use crate::aggregation::DIRECT_COARSE_LIMIT;
 use crate::assembly::{assemble_condensed, assemble_load, Assembled, BodyForce};
 use crate::block_matrix::{BlockOperator, BlockPattern};
 use crate::condensation::Constraints;
+use crate::matrix_free::MatrixFreeStiffness;
 use crate::p_multigrid::PMultigrid;
 use crate::pcg::{pcg_with_progress, LinearOperator};
 use crate::sparse::Cholesky;
+use crate::sparsity::{node_cells, Adjacency};
 use crate::vector_ops::norm;
 use crate::{BoundaryConditions, ElasticError, Material};
 
@@ -66,6 +68,11 @@ pub struct SolverOptions {
     /// vertices carrying the rigid-body modes, whose far smaller system is factorised (a
     /// Cholesky factor of a 3D problem costs ~ n²: 48 s at 140 k unknowns).
     pub coarse_direct_limit: usize,
+    /// CG applies the stiffness of meshes of straight simplices (tets, triangles) cell by
+    /// cell from reference factors instead of assembling it, on every p-multigrid level
+    /// above p = 1 (see `matrix_free`): no matrix in memory, no assembly time. Default true;
+    /// false assembles (kept for comparison; results agree to round-off).
+    pub matrix_free: bool,
 }
 
 impl Default for SolverOptions {
@@ -84,6 +91,7 @@ impl Default for SolverOptions {
             direct_limit_2d: 500_000,
             direct_limit_3d: 5_000,
             coarse_direct_limit: DIRECT_COARSE_LIMIT,
+            matrix_free: true,
         }
     }
 }
@@ -148,6 +156,12 @@ pub enum SolveProgress {
         /// The relative residual CG stops at.
         tolerance: f64,
     },
+}
+
+/// The condensed system: assembled, or applied cell by cell.
+enum System {
+    Assembled(Assembled),
+    MatrixFree(Box<MatrixFreeStiffness>, Adjacency),
 }
 
 /// The largest acceptable true relative residual.
@@ -230,22 +244,6 @@ fn solve(
     let start = Instant::now();
     let dim = mesh.dim;
     let constraints = Constraints::new(mesh.nodes.len(), dim, bc);
-    // b = Tᵀ (F − K u_p), the matrix Tᵀ K T, straight from the elements.
-    let Assembled {
-        matrix,
-        mut rhs,
-        graph,
-        cells_of_node,
-    } = assemble_condensed(mesh, material, stiffening, &constraints, &mut |fraction| {
-        progress(SolveProgress::Assembly { fraction })
-    })?;
-    if let Some(f) = body_force {
-        let load = constraints.restrict(&assemble_load(mesh, f)?);
-        rhs.iter_mut().zip(&load).for_each(|(r, l)| *r += l);
-    }
-    let assembly_time = start.elapsed().as_secs_f64();
-
-    let start = Instant::now();
     let dofs = constraints.len();
     let solver = match options.kind {
         SolverKind::Auto => {
@@ -262,6 +260,33 @@ fn solve(
         }
         other => other,
     };
+    let matrix_free = solver == SolverKind::Cg
+        && options.matrix_free
+        && mesh.order >= 2
+        && MatrixFreeStiffness::applies(mesh);
+    // b = Tᵀ (F − K u_p), and the matrix Tᵀ K T straight from the elements, or the
+    // operator applying it cell by cell.
+    let (system, mut rhs) = if matrix_free {
+        let cells_of_node = node_cells(mesh);
+        let operator = MatrixFreeStiffness::new(mesh, material, stiffening, &constraints)?;
+        let rhs = operator.prescribed_load(&constraints);
+        progress(SolveProgress::Assembly { fraction: 1.0 });
+        (System::MatrixFree(Box::new(operator), cells_of_node), rhs)
+    } else {
+        let mut assembled =
+            assemble_condensed(mesh, material, stiffening, &constraints, &mut |fraction| {
+                progress(SolveProgress::Assembly { fraction })
+            })?;
+        let rhs = std::mem::take(&mut assembled.rhs);
+        (System::Assembled(assembled), rhs)
+    };
+    if let Some(f) = body_force {
+        let load = constraints.restrict(&assemble_load(mesh, f)?);
+        rhs.iter_mut().zip(&load).for_each(|(r, l)| *r += l);
+    }
+    let assembly_time = start.elapsed().as_secs_f64();
+
+    let start = Instant::now();
     let mut x = vec![0.0; dofs];
     let mut iterations = 0;
     let mut by_displacement = false;
@@ -279,59 +304,82 @@ fn solve(
     };
     let relative_residual = if dofs > 0 && b_norm > 0.0 {
         progress(SolveProgress::Setup { solver, dofs });
-        if solver == SolverKind::Direct {
-            x.copy_from_slice(&rhs);
-            Cholesky::new(&matrix, "condensed system")?.solve_in_place(&mut x);
-            relative(&matrix, &x)
-        } else {
-            // The smoothers' mat-vecs in node-block f32 (0.8× the time of the f64 CSR one:
-            // block_matrix::tests::mat_vec_timings); CG's own mat-vec and the residual check
-            // in f64 node blocks, once the preconditioner is built from the CSR matrix: as
-            // fast as CSR, without its column indices (a quarter of its memory).
-            let mut cg = |a: &dyn LinearOperator, preconditioner: &mut PMultigrid| {
-                coarse_setup = preconditioner.coarse_seconds;
-                smoother_setup = preconditioner.smoother_seconds;
-                let start = Instant::now();
-                let tolerance = options.tolerance;
-                let outcome = pcg_with_progress(
-                    a,
-                    &rhs,
-                    &mut x,
-                    preconditioner,
-                    tolerance,
-                    options.displacement_tolerance,
-                    options.max_iterations,
-                    &mut |iteration, relative_residual| {
-                        progress(SolveProgress::Iteration {
-                            iteration,
-                            relative_residual,
-                            tolerance,
-                        })
-                    },
-                );
-                iterations = outcome.iterations;
-                by_displacement = outcome.by_error_estimate;
-                iteration_time = start.elapsed().as_secs_f64();
-            };
-            let pattern = BlockPattern::new(&matrix, &graph, &constraints);
-            let smoothing: Box<dyn LinearOperator> = match &pattern {
-                Some(p) => Box::new(BlockOperator::single(p.clone(), &matrix)),
-                // Beyond 2³⁰ unknowns (no machine we know holds them): a CSR copy.
-                None => Box::new(matrix.clone()),
-            };
-            let (mut preconditioner, exact) = PMultigrid::new(
+        let mut cg = |a: &dyn LinearOperator, preconditioner: &mut PMultigrid| {
+            coarse_setup = preconditioner.coarse_seconds;
+            smoother_setup = preconditioner.smoother_seconds;
+            let start = Instant::now();
+            let tolerance = options.tolerance;
+            let outcome = pcg_with_progress(
+                a,
+                &rhs,
+                &mut x,
+                preconditioner,
+                tolerance,
+                options.displacement_tolerance,
+                options.max_iterations,
+                &mut |iteration, relative_residual| {
+                    progress(SolveProgress::Iteration {
+                        iteration,
+                        relative_residual,
+                        tolerance,
+                    })
+                },
+            );
+            iterations = outcome.iterations;
+            by_displacement = outcome.by_error_estimate;
+            iteration_time = start.elapsed().as_secs_f64();
+        };
+        match system {
+            System::Assembled(Assembled {
                 matrix,
-                pattern,
-                &*smoothing,
-                &constraints,
-                mesh,
-                &cells_of_node,
-                material,
-                stiffening,
-                options,
-            )?;
-            cg(&*exact, &mut preconditioner);
-            relative(&*exact, &x)
+                graph,
+                cells_of_node,
+                ..
+            }) => {
+                if solver == SolverKind::Direct {
+                    x.copy_from_slice(&rhs);
+                    Cholesky::new(&matrix, "condensed system")?.solve_in_place(&mut x);
+                    relative(&matrix, &x)
+                } else {
+                    // The smoothers' mat-vecs in node-block f32 (0.8× the time of the f64
+                    // CSR one: block_matrix::tests::mat_vec_timings); CG's own mat-vec and
+                    // the residual check in f64 node blocks, once the preconditioner is built
+                    // from the CSR matrix: as fast as CSR, without its column indices (a
+                    // quarter of its memory).
+                    let pattern = BlockPattern::new(&matrix, &graph, &constraints);
+                    let smoothing: Box<dyn LinearOperator> = match &pattern {
+                        Some(p) => Box::new(BlockOperator::single(p.clone(), &matrix)),
+                        // Beyond 2³⁰ unknowns (no machine we know holds them): a CSR copy.
+                        None => Box::new(matrix.clone()),
+                    };
+                    let (mut preconditioner, exact) = PMultigrid::new(
+                        matrix,
+                        pattern,
+                        &*smoothing,
+                        &constraints,
+                        mesh,
+                        &cells_of_node,
+                        material,
+                        stiffening,
+                        options,
+                    )?;
+                    cg(&*exact, &mut preconditioner);
+                    relative(&*exact, &x)
+                }
+            }
+            System::MatrixFree(operator, cells_of_node) => {
+                let mut preconditioner = PMultigrid::matrix_free(
+                    &operator,
+                    &constraints,
+                    mesh,
+                    &cells_of_node,
+                    material,
+                    stiffening,
+                    options,
+                )?;
+                cg(&*operator, &mut preconditioner);
+                relative(&*operator, &x)
+            }
         }
     } else {
         0.0

@@ -1,0 +1,195 @@
+use super::*;
+use crate::assembly::assemble_condensed;
+use crate::block_jacobi::{dof_cuts, entity_node_cuts};
+use crate::vector_ops::spmv;
+use crate::BoundaryConditions;
+use hocurve_mesh::LinearMesh;
+use hocurve_nodes::NodeFamily;
+
+/// dim P_(p−1) in `dim` dimensions.
+fn gradient_space(dim: usize, p: usize) -> usize {
+    match dim {
+        2 => p * (p + 1) / 2,
+        _ => p * (p + 1) * (p + 2) / 6,
+    }
+}
+
+#[test]
+fn reference_factors_have_the_rank_of_the_gradient_space_and_reproduce_the_reference_matrices() {
+    for (shape, dim) in [(Shape::Tri, 2), (Shape::Tet, 3)] {
+        for p in 1..=7 {
+            let reference = ReferenceStiffness::new(shape, p, NodeFamily::Fekete).unwrap();
+            let factors = ReferenceGradients::new(&reference).unwrap();
+            assert_eq!(factors.rank(), gradient_space(dim, p), "{shape:?} p = {p}");
+            let s = reference.simplex_stiffness.as_ref().unwrap();
+            let n = reference.len;
+            let scale = s.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+            for alpha in 0..dim {
+                for beta in 0..dim {
+                    for a in 0..n {
+                        for b in 0..n {
+                            let product: f64 = (0..factors.rank())
+                                .map(|k| factors.factor(alpha, k, a) * factors.factor(beta, k, b))
+                                .sum();
+                            let exact = s[alpha * dim + beta][a * n + b];
+                            assert!(
+                                (product - exact).abs() <= 1e-12 * scale,
+                                "{shape:?} p = {p}: {product} vs {exact}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// The unit square in 2n² right triangles.
+fn tri_square(n: usize) -> LinearMesh {
+    use hocurve_mesh::{Element, Shape};
+    let mut vertices = Vec::new();
+    for j in 0..=n {
+        for i in 0..=n {
+            // Slightly sheared so that no two cells are congruent.
+            let (x, y) = (i as f64 / n as f64, j as f64 / n as f64);
+            vertices.push([x + 0.1 * x * y, y + 0.05 * x * y, 0.0]);
+        }
+    }
+    let id = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    let mut cells = Vec::new();
+    for j in 0..n {
+        for i in 0..n {
+            for tri in [
+                [id(i, j), id(i + 1, j), id(i + 1, j + 1)],
+                [id(i, j), id(i + 1, j + 1), id(i, j + 1)],
+            ] {
+                cells.push(Element {
+                    kind: Shape::Tri,
+                    vertices: tri.to_vec(),
+                    entity: 1,
+                });
+            }
+        }
+    }
+    LinearMesh {
+        dim: 2,
+        vertices,
+        cells,
+        ..Default::default()
+    }
+}
+
+/// A mesh of order p with nodes on x = 0 prescribed (a non-zero field), on y = 0 sliding
+/// on a slanted normal, the rest free; stiffened cell by cell.
+fn system(linear: &LinearMesh, p: usize) -> (HighOrderMesh, Constraints, Vec<f64>) {
+    let mesh = HighOrderMesh::from_linear(linear, p, NodeFamily::Fekete).unwrap();
+    let mut bc = BoundaryConditions::default();
+    for (n, x) in mesh.nodes.iter().enumerate() {
+        if x[0] == 0.0 {
+            bc.prescribed
+                .insert(n as u32, [0.01 * x[1], -0.02 * x[2] + 0.01, 0.03]);
+        } else if x[1] == 0.0 {
+            bc.sliding.insert(n as u32, [0.2, 1.0, 0.1]);
+        }
+    }
+    assert!(!bc.prescribed.is_empty() && !bc.sliding.is_empty());
+    let constraints = Constraints::new(mesh.nodes.len(), mesh.dim, &bc);
+    let stiffening = (0..mesh.cells.len())
+        .map(|c| 1.0 + (c % 7) as f64)
+        .collect();
+    (mesh, constraints, stiffening)
+}
+
+fn pseudo_random(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| ((i.wrapping_mul(2_654_435_761) >> 5) % 1000) as f64 / 500.0 - 1.0)
+        .collect()
+}
+
+fn max_abs(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+#[test]
+fn the_cell_by_cell_action_equals_the_assembled_condensed_matrix() {
+    let material = Material::default();
+    for (linear, p) in [
+        (crate::p_multigrid::tests::tet_cube(2), 1),
+        (crate::p_multigrid::tests::tet_cube(2), 3),
+        (crate::p_multigrid::tests::tet_cube(1), 5),
+        (tri_square(3), 2),
+        (tri_square(2), 6),
+    ] {
+        let (mesh, constraints, stiffening) = system(&linear, p);
+        assert!(MatrixFreeStiffness::applies(&mesh));
+        let assembled = assemble_condensed(
+            &mesh,
+            &material,
+            Some(&stiffening),
+            &constraints,
+            &mut |_| {},
+        )
+        .unwrap();
+        let operator =
+            MatrixFreeStiffness::new(&mesh, &material, Some(&stiffening), &constraints).unwrap();
+        assert_eq!(operator.len(), constraints.len());
+        let x = pseudo_random(constraints.len());
+        let (mut expected, mut found) = (vec![0.0; x.len()], vec![0.0; x.len()]);
+        spmv(&assembled.matrix, &x, &mut expected);
+        operator.apply(&x, &mut found);
+        let scale = max_abs(&expected);
+        for (e, f) in expected.iter().zip(&found) {
+            assert!((e - f).abs() <= 1e-12 * scale, "p = {p}: {e} vs {f}");
+        }
+        // The prescribed nodes' load.
+        let load = operator.prescribed_load(&constraints);
+        let scale = max_abs(&assembled.rhs);
+        assert!(scale > 0.0);
+        for (e, f) in assembled.rhs.iter().zip(&load) {
+            assert!((e - f).abs() <= 1e-12 * scale, "p = {p}: {e} vs {f}");
+        }
+        // The entity blocks of the smoother.
+        let cuts = dof_cuts(&entity_node_cuts(&mesh), &constraints.first);
+        let (from_matrix, from_cells) = (
+            BlockJacobi::new(&assembled.matrix, &cuts),
+            operator.block_jacobi(&cuts),
+        );
+        from_matrix.apply(&x, &mut expected);
+        from_cells.apply(&x, &mut found);
+        let scale = max_abs(&expected);
+        for (e, f) in expected.iter().zip(&found) {
+            assert!((e - f).abs() <= 1e-10 * scale, "p = {p}: {e} vs {f}");
+        }
+    }
+}
+
+#[test]
+fn the_action_does_not_depend_on_the_number_of_threads() {
+    let (mesh, constraints, _) = system(&crate::p_multigrid::tests::tet_cube(3), 3);
+    let operator =
+        MatrixFreeStiffness::new(&mesh, &Material::default(), None, &constraints).unwrap();
+    let x = pseudo_random(constraints.len());
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let mut y = vec![0.0; x.len()];
+        pool.install(|| operator.apply(&x, &mut y));
+        y
+    };
+    let one = run(1);
+    assert_eq!(one, run(2));
+    assert_eq!(one, run(5));
+}
+
+#[test]
+fn curved_or_mixed_meshes_are_left_to_the_assembled_matrix() {
+    let linear = crate::p_multigrid::tests::tet_cube(1);
+    let mut mesh = HighOrderMesh::from_linear(&linear, 2, NodeFamily::Fekete).unwrap();
+    assert!(MatrixFreeStiffness::applies(&mesh));
+    // Move one edge node off its straight position.
+    let node = mesh.cells[0].nodes[5] as usize;
+    mesh.nodes[node][0] += 0.01;
+    assert!(!MatrixFreeStiffness::applies(&mesh));
+}
