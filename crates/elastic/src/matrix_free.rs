@@ -160,6 +160,8 @@ pub(crate) struct MatrixFreeStiffness {
     /// FREE, FIXED, or the index of a sliding node's tangents in `frames`.
     kind: Vec<u32>,
     frames: Vec<[[f64; 3]; 2]>,
+    /// Whether the CPU has AVX2 (for [`MatrixFreeStiffness::cell_action`]).
+    avx2: bool,
     /// Sums of the colours (atomics only to share disjoint slots between threads).
     accumulator: Mutex<Vec<AtomicU64>>,
 }
@@ -291,6 +293,10 @@ impl MatrixFreeStiffness {
             first: constraints.first.clone(),
             kind,
             frames,
+            #[cfg(target_arch = "x86_64")]
+            avx2: std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            avx2: false,
             accumulator: Mutex::new(Vec::new()),
         })
     }
@@ -390,8 +396,26 @@ impl MatrixFreeStiffness {
     }
 
     /// scratch.y = K_c scratch.x for cell c (module documentation); both hold component d
-    /// of node b at `d n + b`.
+    /// of node b at `d n + b`. With AVX2 where the CPU has it: the same operations in the
+    /// same order (no fused multiply-add), so the same bits, on 4 lanes instead of 2.
     fn cell_action(&self, c: usize, scratch: &mut CellScratch) {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` is set only when the running CPU reports AVX2.
+            unsafe { self.cell_action_avx2(c, scratch) };
+            return;
+        }
+        self.cell_action_body(c, scratch);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    unsafe fn cell_action_avx2(&self, c: usize, scratch: &mut CellScratch) {
+        self.cell_action_body(c, scratch);
+    }
+
+    #[inline(always)]
+    fn cell_action_body(&self, c: usize, scratch: &mut CellScratch) {
         let ReferenceGradients { dim, n, m, .. } = self.reference;
         let rows = dim * m;
         let g = &self.geometry[c];

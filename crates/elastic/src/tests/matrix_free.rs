@@ -193,3 +193,18 @@ fn curved_or_mixed_meshes_are_left_to_the_assembled_matrix() {
     mesh.nodes[node][0] += 0.01;
     assert!(!MatrixFreeStiffness::applies(&mesh));
 }
+
+#[test]
+fn the_avx2_action_has_the_bits_of_the_portable_one() {
+    let (mesh, constraints, stiffening) = system(&crate::p_multigrid::tests::tet_cube(2), 4);
+    let mut operator =
+        MatrixFreeStiffness::new(&mesh, &Material::default(), Some(&stiffening), &constraints)
+            .unwrap();
+    let x = pseudo_random(constraints.len());
+    let mut fast = vec![0.0; x.len()];
+    operator.apply(&x, &mut fast);
+    operator.avx2 = false;
+    let mut portable = vec![0.0; x.len()];
+    operator.apply(&x, &mut portable);
+    assert_eq!(fast, portable);
+}
