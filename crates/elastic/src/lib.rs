@@ -49,6 +49,7 @@ mod assembly;
 mod block_jacobi;
 mod block_matrix;
 mod boundary;
+mod cell_runs;
 mod condensation;
 mod element_matrix;
 mod error_norm;

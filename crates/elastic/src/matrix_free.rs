@@ -12,18 +12,13 @@
 //!
 //! 4 dim² m n flops and nothing stored per cell but J⁻¹ and |det J| — where the assembled
 //! matrix keeps about (n dim)²/2 numbers per cell (at p = 3, 1 800 against 10; at p = 8,
-//! 120 000). Cells are taken in runs of up to [`CELLS_PER_RUN`] cells, consecutive along a
-//! space-filling curve: a run gathers the values of its distinct nodes once (about a fifth
-//! of its cells' node references), works on them in cache and adds its results once. Runs
-//! of one colour share no node, so they add their results in parallel without conflicts,
-//! and every entry receives its contributions in an order fixed by the colours and the cell
-//! order alone: the result does not depend on the number of threads.
+//! 120 000). Cells are visited in the coloured runs of [`crate::cell_runs`]: the result does
+//! not depend on the number of threads.
 //!
 //! The same factors give the diagonal blocks of Tᵀ K T that the block-Jacobi smoother
 //! inverts ([`MatrixFreeStiffness::block_jacobi`]).
 
-use std::sync::atomic::{AtomicU64, Ordering};
-use std::sync::Mutex;
+use std::sync::atomic::AtomicU64;
 
 use faer::{Mat, Side};
 use hocurve_mesh::HighOrderMesh;
@@ -31,6 +26,7 @@ use hocurve_nodes::Shape;
 use rayon::prelude::*;
 
 use crate::block_jacobi::{block_offsets, BlockJacobi};
+use crate::cell_runs::{add_to, CellRuns, ReducedNodes, SharedSum};
 use crate::condensation::Constraints;
 use crate::element_matrix::invert_jacobian;
 use crate::pcg::LinearOperator;
@@ -40,9 +36,6 @@ use crate::{ElasticError, Material};
 /// Eigenvalues of [S_αβ] below this fraction of the largest are round-off (the exact ones
 /// are zero beyond rank m; the smallest kept one is above 1e-3 of the largest up to p = 10).
 const RANK_TOLERANCE: f64 = 1e-10;
-/// Cells per run (the unit of colouring and of parallel work), fewer when a run's node
-/// references would not fit 16-bit local indices.
-const CELLS_PER_RUN: usize = 128;
 
 /// The factors R_α of one simplex's reference stiffness matrices: S_αβ = R_αᵀ R_β.
 #[derive(Debug, Clone)]
@@ -131,39 +124,20 @@ impl ReferenceGradients {
     }
 }
 
-/// How a node enters the reduced unknowns.
-const FREE: u32 = u32::MAX;
-const FIXED: u32 = u32::MAX - 1;
-
 /// Tᵀ K T of a mesh of straight simplices, applied cell by cell.
 pub(crate) struct MatrixFreeStiffness {
     dim: usize,
     reference: ReferenceGradients,
-    /// Cells per run.
-    run_length: usize,
-    /// The distinct nodes of each run, increasing: run k's are
-    /// `run_nodes[run_start[k]..run_start[k + 1]]`.
-    run_start: Vec<usize>,
-    run_nodes: Vec<u32>,
-    /// The n nodes of each cell as positions in its run's node list.
-    local: Vec<u16>,
+    /// The cells in coloured runs; `geometry` follows their order.
+    runs: CellRuns,
     /// Per cell: J⁻¹ (`inv[α][c]` at 3α + c) and |det J| times the cell's stiffening.
     geometry: Vec<[f64; 10]>,
     lambda: f64,
     mu: f64,
-    /// The runs of each colour (run k holds cells `k run_length..`), then the runs done one
-    /// after the other (those that found no free colour).
-    colours: Vec<Vec<u32>>,
-    sequential: Vec<u32>,
-    /// First reduced dof of each node (`len = nodes + 1`).
-    first: Vec<usize>,
-    /// FREE, FIXED, or the index of a sliding node's tangents in `frames`.
-    kind: Vec<u32>,
-    frames: Vec<[[f64; 3]; 2]>,
+    nodes: ReducedNodes,
     /// Whether the CPU has AVX2 (for [`MatrixFreeStiffness::cell_action`]).
     avx2: bool,
-    /// Sums of the colours (atomics only to share disjoint slots between threads).
-    accumulator: Mutex<Vec<AtomicU64>>,
+    sums: SharedSum,
 }
 
 impl MatrixFreeStiffness {
@@ -206,13 +180,7 @@ impl MatrixFreeStiffness {
         let stiffness = ReferenceStiffness::new(shape, mesh.order, mesh.family)?;
         let reference = ReferenceGradients::new(&stiffness)?;
         let n = stiffness.len;
-        // Cells are stored in the order of a space-filling curve through their centroids:
-        // runs of consecutive cells are then compact in space (few colours, shared cache).
-        let order = morton_order(mesh);
-        let mut cells = Vec::with_capacity(mesh.cells.len() * n);
-        for &c in &order {
-            let c = c as usize;
-            let cell = &mesh.cells[c];
+        for (c, cell) in mesh.cells.iter().enumerate() {
             if cell.nodes.len() != n || cell.kind != shape {
                 return Err(ElasticError::WrongNodeCount {
                     cell: c,
@@ -220,9 +188,10 @@ impl MatrixFreeStiffness {
                     expected: n,
                 });
             }
-            cells.extend_from_slice(&cell.nodes);
         }
-        let geometry = order
+        let runs = CellRuns::new(mesh, n);
+        let geometry = runs
+            .order
             .par_iter()
             .map(|&c| {
                 let c = c as usize;
@@ -249,61 +218,26 @@ impl MatrixFreeStiffness {
                 Ok(g)
             })
             .collect::<Result<Vec<_>, _>>()?;
-        let mut frames = Vec::new();
-        let kind = (0..constraints.count.len())
-            .map(|node| {
-                if constraints.count[node] == 0 {
-                    FIXED
-                } else if constraints.identity[node] {
-                    FREE
-                } else {
-                    let q = &constraints.directions[node];
-                    frames.push([q[0], q[1]]);
-                    (frames.len() - 1) as u32
-                }
-            })
-            .collect();
         let (lambda, mu) = material.lame();
-        let run_length = (usize::from(u16::MAX) / n).clamp(1, CELLS_PER_RUN);
-        let (mut run_start, mut run_nodes, mut local) = (vec![0], Vec::new(), Vec::new());
-        for run in cells.chunks(run_length * n) {
-            let mut distinct = run.to_vec();
-            distinct.sort_unstable();
-            distinct.dedup();
-            local.extend(
-                run.iter()
-                    .map(|v| distinct.partition_point(|w| w < v) as u16),
-            );
-            run_nodes.extend_from_slice(&distinct);
-            run_start.push(run_nodes.len());
-        }
-        let (colours, sequential) = colour_runs(&run_start, &run_nodes, mesh.nodes.len());
         Ok(MatrixFreeStiffness {
             dim,
             reference,
-            run_length,
-            run_start,
-            run_nodes,
-            local,
+            runs,
             geometry,
             lambda,
             mu,
-            colours,
-            sequential,
-            first: constraints.first.clone(),
-            kind,
-            frames,
+            nodes: ReducedNodes::new(constraints),
             #[cfg(target_arch = "x86_64")]
             avx2: std::arch::is_x86_feature_detected!("avx2"),
             #[cfg(not(target_arch = "x86_64"))]
             avx2: false,
-            accumulator: Mutex::new(Vec::new()),
+            sums: SharedSum::default(),
         })
     }
 
     /// Number of reduced unknowns.
     pub fn len(&self) -> usize {
-        self.first.last().copied().unwrap_or(0)
+        self.nodes.len()
     }
 
     /// The load −Tᵀ K u_p that the prescribed displacements (`constraints.prescribed`, a
@@ -315,7 +249,7 @@ impl MatrixFreeStiffness {
         self.accumulate(
             |node| {
                 let mut v = [0.0; 3];
-                if self.kind[node] == FIXED {
+                if self.nodes.is_fixed(node) {
                     (0..dim).for_each(|d| v[d] = u[node * dim + d]);
                 }
                 v
@@ -328,71 +262,46 @@ impl MatrixFreeStiffness {
 
     /// y = Σ over cells of Tᵀ K_e x_e, the cell's nodal displacements x_e from `gather`.
     fn accumulate(&self, gather: impl Fn(usize) -> [f64; 3] + Sync, y: &mut [f64]) {
-        let size = self.len();
-        let mut sums = self
-            .accumulator
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner());
-        if sums.len() != size {
-            *sums = (0..size).map(|_| AtomicU64::new(0)).collect();
-        } else {
-            sums.par_iter().for_each(|s| s.store(0, Ordering::Relaxed));
-        }
-        let sums = &*sums;
-        let add = |slot: usize, value: f64| {
-            let s = &sums[slot];
-            let sum = f64::from_bits(s.load(Ordering::Relaxed)) + value;
-            s.store(sum.to_bits(), Ordering::Relaxed);
-        };
         let (n, dim) = (self.reference.n, self.dim);
-        self.for_each_run(CellScratch::default, |scratch, run| {
-            let nodes = &self.run_nodes[self.run_start[run]..self.run_start[run + 1]];
-            let len = nodes.len();
-            // The run's nodal values (component d of its node j at d len + j) and results.
-            scratch.run_x.resize(dim * len, 0.0);
-            scratch.run_y.clear();
-            scratch.run_y.resize(dim * len, 0.0);
-            for (j, &node) in nodes.iter().enumerate() {
-                let v = gather(node as usize);
-                for d in 0..dim {
-                    scratch.run_x[d * len + j] = v[d];
-                }
-            }
-            for c in self.cells_of_run(run) {
-                let local = &self.local[c * n..(c + 1) * n];
-                // Every entry is overwritten.
-                scratch.x.resize(dim * n, 0.0);
-                for (a, &j) in local.iter().enumerate() {
-                    for d in 0..dim {
-                        scratch.x[d * n + a] = scratch.run_x[d * len + j as usize];
-                    }
-                }
-                self.cell_action(c, scratch);
-                for (a, &j) in local.iter().enumerate() {
-                    for d in 0..dim {
-                        scratch.run_y[d * len + j as usize] += scratch.y[d * n + a];
-                    }
-                }
-            }
-            for (j, &node) in nodes.iter().enumerate() {
-                let node = node as usize;
-                let f = self.first[node];
-                let y = |d: usize| scratch.run_y[d * len + j];
-                match self.kind[node] {
-                    FIXED => {}
-                    FREE => (0..dim).for_each(|d| add(f + d, y(d))),
-                    frame => {
-                        let q = &self.frames[frame as usize];
-                        for (i, qi) in q.iter().enumerate().take(dim - 1) {
-                            add(f + i, (0..dim).map(|d| qi[d] * y(d)).sum());
+        self.sums.collect(y, |sums| {
+            self.runs
+                .for_each_run(CellScratch::default, |scratch, run| {
+                    let nodes = self.runs.nodes_of_run(run);
+                    let len = nodes.len();
+                    // The run's nodal values (component d of its node j at d len + j) and results.
+                    scratch.run_x.resize(dim * len, 0.0);
+                    scratch.run_y.clear();
+                    scratch.run_y.resize(dim * len, 0.0);
+                    for (j, &node) in nodes.iter().enumerate() {
+                        let v = gather(node as usize);
+                        for d in 0..dim {
+                            scratch.run_x[d * len + j] = v[d];
                         }
                     }
-                }
-            }
+                    for c in self.runs.cells_of_run(run) {
+                        let local = self.runs.local(c);
+                        // Every entry is overwritten.
+                        scratch.x.resize(dim * n, 0.0);
+                        for (a, &j) in local.iter().enumerate() {
+                            for d in 0..dim {
+                                scratch.x[d * n + a] = scratch.run_x[d * len + j as usize];
+                            }
+                        }
+                        self.cell_action(c, scratch);
+                        for (a, &j) in local.iter().enumerate() {
+                            for d in 0..dim {
+                                scratch.run_y[d * len + j as usize] += scratch.y[d * n + a];
+                            }
+                        }
+                    }
+                    for (j, &node) in nodes.iter().enumerate() {
+                        let mut v = [0.0; 3];
+                        (0..dim).for_each(|d| v[d] = scratch.run_y[d * len + j]);
+                        self.nodes
+                            .restrict(node as usize, v, |i, value| sums.add(i, value));
+                    }
+                });
         });
-        y.par_iter_mut()
-            .zip(sums.par_iter())
-            .for_each(|(yi, s)| *yi = f64::from_bits(s.load(Ordering::Relaxed)));
     }
 
     /// scratch.y = K_c scratch.x for cell c (module documentation); both hold component d
@@ -475,14 +384,15 @@ impl MatrixFreeStiffness {
     /// Block Jacobi over the reduced dof ranges `cuts` (each a whole number of nodes): the
     /// diagonal blocks of Tᵀ K T summed cell by cell from the reference matrices.
     pub fn block_jacobi(&self, cuts: &[usize]) -> BlockJacobi {
-        let nodes = self.kind.len();
+        let nodes = self.nodes.nodes();
+        let first = self.nodes.first();
         let blocks = cuts.len().saturating_sub(1);
         // The block of each node with free directions.
         let mut block_of = vec![u32::MAX; nodes];
         let mut b = 0;
         for node in 0..nodes {
-            if self.first[node + 1] > self.first[node] {
-                while cuts[b + 1] <= self.first[node] {
+            if first[node + 1] > first[node] {
+                while cuts[b + 1] <= first[node] {
                     b += 1;
                 }
                 block_of[node] = b as u32;
@@ -493,23 +403,15 @@ impl MatrixFreeStiffness {
             .into_par_iter()
             .map(|_| AtomicU64::new(0))
             .collect();
-        let add = |slot: usize, value: f64| {
-            let s = &dense[slot];
-            let sum = f64::from_bits(s.load(Ordering::Relaxed)) + value;
-            s.store(sum.to_bits(), Ordering::Relaxed);
-        };
+        let add = |slot: usize, value: f64| add_to(&dense[slot], value);
         let ReferenceGradients { dim, n, .. } = self.reference;
         let s = &self.reference.stiffness;
         let (lambda, mu) = (self.lambda, self.mu);
-        self.for_each_run(Vec::new, |nodes, run| {
-            let distinct = &self.run_nodes[self.run_start[run]..self.run_start[run + 1]];
-            for c in self.cells_of_run(run) {
+        self.runs.for_each_run(Vec::new, |nodes, run| {
+            let distinct = self.runs.nodes_of_run(run);
+            for c in self.runs.cells_of_run(run) {
                 nodes.clear();
-                nodes.extend(
-                    self.local[c * n..(c + 1) * n]
-                        .iter()
-                        .map(|&j| distinct[j as usize]),
-                );
+                nodes.extend(self.runs.local(c).iter().map(|&j| distinct[j as usize]));
                 let g = &self.geometry[c];
                 for (a, &na) in nodes.iter().enumerate() {
                     let na = na as usize;
@@ -551,10 +453,10 @@ impl MatrixFreeStiffness {
                             }
                             kab[cc][cc] += mu * trace;
                         }
-                        let (qa, ka) = self.directions(na);
-                        let (qb, kb) = self.directions(nb);
+                        let (qa, ka) = self.nodes.directions(na);
+                        let (qb, kb) = self.nodes.directions(nb);
                         let (rows, cols) = (&qa[..ka], &qb[..kb]);
-                        let (ra, rb) = (self.first[na] - start, self.first[nb] - start);
+                        let (ra, rb) = (first[na] - start, first[nb] - start);
                         for (i, qi) in rows.iter().enumerate() {
                             for (j, qj) in cols.iter().enumerate() {
                                 let mut v = 0.0;
@@ -576,150 +478,12 @@ impl MatrixFreeStiffness {
             .collect();
         BlockJacobi::from_blocks(cuts, offsets, dense)
     }
-
-    /// Calls `work(state, run)` on every run of cells: colour after colour, the runs of a
-    /// colour in parallel (each with a state from `init`), then the uncoloured runs in order.
-    fn for_each_run<S>(
-        &self,
-        init: impl Fn() -> S + Sync + Send,
-        work: impl Fn(&mut S, usize) + Sync + Send,
-    ) {
-        for class in &self.colours {
-            class
-                .par_iter()
-                .for_each_init(&init, |state, &k| work(state, k as usize));
-        }
-        let mut state = init();
-        for &k in &self.sequential {
-            work(&mut state, k as usize);
-        }
-    }
-
-    /// The cells of run k.
-    fn cells_of_run(&self, k: usize) -> std::ops::Range<usize> {
-        let start = k * self.run_length;
-        start..(start + self.run_length).min(self.geometry.len())
-    }
-
-    /// The free directions of `node` and their number (0 when fixed).
-    fn directions(&self, node: usize) -> ([[f64; 3]; 3], usize) {
-        let dim = self.dim;
-        let mut q = [[0.0; 3]; 3];
-        match self.kind[node] {
-            FIXED => (q, 0),
-            FREE => {
-                (0..3).for_each(|d| q[d][d] = 1.0);
-                (q, dim)
-            }
-            frame => {
-                q[..2].copy_from_slice(&self.frames[frame as usize]);
-                (q, dim - 1)
-            }
-        }
-    }
 }
 
 impl LinearOperator for MatrixFreeStiffness {
     fn apply(&self, x: &[f64], y: &mut [f64]) {
-        let dim = self.dim;
-        let gather = |node: usize| {
-            let f = self.first[node];
-            let mut v = [0.0; 3];
-            match self.kind[node] {
-                FIXED => {}
-                // An element-wise copy: `copy_from_slice` of a run-time length calls memcpy.
-                FREE => (0..dim).for_each(|d| v[d] = x[f + d]),
-                frame => {
-                    let q = &self.frames[frame as usize];
-                    for (i, qi) in q.iter().enumerate().take(dim - 1) {
-                        for d in 0..dim {
-                            v[d] += x[f + i] * qi[d];
-                        }
-                    }
-                }
-            }
-            v
-        };
-        self.accumulate(gather, y);
+        self.accumulate(|node| self.nodes.expand(node, x), y);
     }
-}
-
-/// The cells of `mesh` sorted by the Morton code (bit-interleaved coordinates, 21 bits per
-/// axis in the bounding box) of their first vertices' centroid, ties by index.
-fn morton_order(mesh: &HighOrderMesh) -> Vec<u32> {
-    let nv = mesh.dim + 1;
-    let centroid = |c: &hocurve_mesh::HighOrderElement| {
-        let mut x = [0.0; 3];
-        for &v in c.nodes.iter().take(nv) {
-            for d in 0..3 {
-                x[d] += mesh.nodes[v as usize][d] / nv as f64;
-            }
-        }
-        x
-    };
-    let (mut low, mut high) = ([f64::MAX; 3], [f64::MIN; 3]);
-    for x in &mesh.nodes {
-        for d in 0..3 {
-            low[d] = low[d].min(x[d]);
-            high[d] = high[d].max(x[d]);
-        }
-    }
-    let spread: f64 = (0..3).map(|d| high[d] - low[d]).fold(0.0, f64::max);
-    let scale = if spread > 0.0 {
-        ((1u64 << 21) - 1) as f64 / spread
-    } else {
-        0.0
-    };
-    // Spreads the low 21 bits of v to every third bit.
-    let spread_bits = |v: u64| {
-        let mut v = v & 0x1f_ffff;
-        v = (v | v << 32) & 0x1f_0000_0000_ffff;
-        v = (v | v << 16) & 0x1f_0000_ff00_00ff;
-        v = (v | v << 8) & 0x100f_00f0_0f00_f00f;
-        v = (v | v << 4) & 0x10c3_0c30_c30c_30c3;
-        (v | v << 2) & 0x1249_2492_4924_9249
-    };
-    let mut keyed: Vec<(u64, u32)> = mesh
-        .cells
-        .par_iter()
-        .enumerate()
-        .map(|(c, cell)| {
-            let x = centroid(cell);
-            let code = (0..3).fold(0u64, |code, d| {
-                let q = ((x[d] - low[d]) * scale).clamp(0.0, ((1u64 << 21) - 1) as f64) as u64;
-                code | spread_bits(q) << d
-            });
-            (code, c as u32)
-        })
-        .collect();
-    keyed.par_sort_unstable();
-    keyed.into_iter().map(|(_, c)| c).collect()
-}
-
-/// Greedy colouring of the runs (run k's distinct nodes at
-/// `run_nodes[run_start[k]..run_start[k + 1]]`) so that runs of one colour share no node:
-/// each run, in order, takes the lowest of 64 colours not yet used by a run touching one of
-/// its nodes (a bit mask per node). Returns the runs of each colour and, in order, those
-/// that found all 64 taken.
-fn colour_runs(run_start: &[usize], run_nodes: &[u32], nodes: usize) -> (Vec<Vec<u32>>, Vec<u32>) {
-    let mut used = vec![0u64; nodes];
-    let mut colours: Vec<Vec<u32>> = Vec::new();
-    let mut sequential = Vec::new();
-    for (k, w) in run_start.windows(2).enumerate() {
-        let run = &run_nodes[w[0]..w[1]];
-        let taken = run.iter().fold(0u64, |mask, &v| mask | used[v as usize]);
-        if taken == u64::MAX {
-            sequential.push(k as u32);
-            continue;
-        }
-        let colour = taken.trailing_ones() as usize;
-        if colour == colours.len() {
-            colours.push(Vec::new());
-        }
-        colours[colour].push(k as u32);
-        run.iter().for_each(|&v| used[v as usize] |= 1 << colour);
-    }
-    (colours, sequential)
 }
 
 /// One thread's buffers for [`MatrixFreeStiffness::cell_action`].

@@ -45,6 +45,36 @@ pub(crate) fn face_key(vertices: &[u32]) -> [u32; 4] {
     key
 }
 
+/// A multiplicative hasher for keys made of vertex ids (FxHash's mixing step): the default
+/// SipHash cost more than everything else in building the topology of a large mesh. Ids are
+/// given in order of first appearance, so the hash does not change the result.
+#[derive(Default)]
+struct VertexIdHasher(u64);
+
+impl std::hash::Hasher for VertexIdHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+
+    fn write(&mut self, bytes: &[u8]) {
+        for chunk in bytes.chunks(4) {
+            let mut word = [0u8; 4];
+            word[..chunk.len()].copy_from_slice(chunk);
+            self.write_u32(u32::from_le_bytes(word));
+        }
+    }
+
+    fn write_u32(&mut self, value: u32) {
+        self.0 = (self.0.rotate_left(5) ^ u64::from(value)).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+
+    fn write_usize(&mut self, value: usize) {
+        self.0 = (self.0.rotate_left(5) ^ value as u64).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+type VertexIdMap<K> = HashMap<K, u32, std::hash::BuildHasherDefault<VertexIdHasher>>;
+
 /// Edges and faces of a mesh and their incidence with cells, read through accessors (u32
 /// ids) so that the storage can change without its users.
 #[derive(Debug, Clone, Default)]
@@ -67,8 +97,14 @@ impl Topology {
     /// Builds the topology of a validated mesh. Fails if more than two cells share a facet.
     pub fn new(mesh: &LinearMesh) -> Result<Self, MeshError> {
         let mut topo = Topology::default();
-        let mut edge_ids: HashMap<[u32; 2], u32> = HashMap::new();
-        let mut face_ids: HashMap<[u32; 4], u32> = HashMap::new();
+        // Tetrahedral meshes have about 1.2 edges and 2 faces per cell.
+        let cells = mesh.cells.len();
+        let mut edge_ids: VertexIdMap<[u32; 2]> = VertexIdMap::default();
+        edge_ids.reserve(cells + cells / 2);
+        let mut face_ids: VertexIdMap<[u32; 4]> = VertexIdMap::default();
+        if mesh.dim == 3 {
+            face_ids.reserve(2 * cells + cells / 4);
+        }
         let mut face_cells: Vec<[u32; 2]> = Vec::new();
         let mut edge_cells: Vec<[u32; 2]> = Vec::new();
         let mut overfull: Option<Vec<u32>> = None;

@@ -1,0 +1,343 @@
+//! What the cell-by-cell operators share: cells in compact runs with a conflict-free
+//! colouring, the reduced numbering of nodes, and a deterministic parallel sum.
+//!
+//! Cells are taken in runs of up to [`CELLS_PER_RUN`] cells, consecutive along a Morton curve
+//! of their centroids: a run gathers the values of its distinct nodes once (about a fifth of
+//! its cells' node references), works on them in cache and adds its results once. Runs of
+//! one colour share no node, so they add their results in parallel without conflicts, and
+//! every entry receives its contributions in an order fixed by the colours and the cell
+//! order alone: the result does not depend on the number of threads.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
+
+use hocurve_mesh::HighOrderMesh;
+use rayon::prelude::*;
+
+use crate::condensation::Constraints;
+
+/// Cells per run (the unit of colouring and of parallel work), fewer when a run's node
+/// references would not fit 16-bit local indices.
+const CELLS_PER_RUN: usize = 128;
+
+/// The cells of a mesh (all with `n` nodes) in coloured runs.
+pub(crate) struct CellRuns {
+    /// The mesh's index of the cell at each position.
+    pub order: Vec<u32>,
+    /// Nodes per cell.
+    n: usize,
+    /// Cells per run.
+    run_length: usize,
+    /// The distinct nodes of each run, increasing: run k's are
+    /// `run_nodes[run_start[k]..run_start[k + 1]]`.
+    run_start: Vec<usize>,
+    run_nodes: Vec<u32>,
+    /// The n nodes of the cell at each position, as positions in its run's node list.
+    local: Vec<u16>,
+    /// The runs of each colour, then the runs done one after the other (those that found no
+    /// free colour).
+    colours: Vec<Vec<u32>>,
+    sequential: Vec<u32>,
+}
+
+impl CellRuns {
+    /// The runs of `mesh`, whose cells all have `n` nodes (checked by the caller).
+    pub fn new(mesh: &HighOrderMesh, n: usize) -> Self {
+        let order = morton_order(mesh);
+        let run_length = (usize::from(u16::MAX) / n.max(1)).clamp(1, CELLS_PER_RUN);
+        let (mut run_start, mut run_nodes, mut local) = (vec![0], Vec::new(), Vec::new());
+        let mut distinct = Vec::new();
+        for run in order.chunks(run_length) {
+            distinct.clear();
+            for &c in run {
+                distinct.extend_from_slice(&mesh.cells[c as usize].nodes);
+            }
+            distinct.sort_unstable();
+            distinct.dedup();
+            for &c in run {
+                local.extend(
+                    mesh.cells[c as usize]
+                        .nodes
+                        .iter()
+                        .map(|v| distinct.partition_point(|w| w < v) as u16),
+                );
+            }
+            run_nodes.extend_from_slice(&distinct);
+            run_start.push(run_nodes.len());
+        }
+        let (colours, sequential) = colour_runs(&run_start, &run_nodes, mesh.nodes.len());
+        CellRuns {
+            order,
+            n,
+            run_length,
+            run_start,
+            run_nodes,
+            local,
+            colours,
+            sequential,
+        }
+    }
+
+    /// The positions of run k's cells.
+    pub fn cells_of_run(&self, k: usize) -> std::ops::Range<usize> {
+        let start = k * self.run_length;
+        start..(start + self.run_length).min(self.order.len())
+    }
+
+    /// Run k's distinct nodes, increasing.
+    pub fn nodes_of_run(&self, k: usize) -> &[u32] {
+        &self.run_nodes[self.run_start[k]..self.run_start[k + 1]]
+    }
+
+    /// The nodes of the cell at `position` as positions in its run's node list.
+    pub fn local(&self, position: usize) -> &[u16] {
+        &self.local[position * self.n..(position + 1) * self.n]
+    }
+
+    /// Calls `work(state, run)` on every run: colour after colour, the runs of a colour in
+    /// parallel (each with a state from `init`), then the uncoloured runs in order.
+    pub fn for_each_run<S>(
+        &self,
+        init: impl Fn() -> S + Sync + Send,
+        work: impl Fn(&mut S, usize) + Sync + Send,
+    ) {
+        for class in &self.colours {
+            class
+                .par_iter()
+                .for_each_init(&init, |state, &k| work(state, k as usize));
+        }
+        let mut state = init();
+        for &k in &self.sequential {
+            work(&mut state, k as usize);
+        }
+    }
+}
+
+/// The cells of `mesh` sorted by the Morton code (bit-interleaved coordinates, 21 bits per
+/// axis in the bounding box) of their first vertices' centroid, ties by index.
+fn morton_order(mesh: &HighOrderMesh) -> Vec<u32> {
+    let nv = mesh.dim + 1;
+    let (mut low, mut high) = ([f64::MAX; 3], [f64::MIN; 3]);
+    for x in &mesh.nodes {
+        for d in 0..3 {
+            low[d] = low[d].min(x[d]);
+            high[d] = high[d].max(x[d]);
+        }
+    }
+    let spread: f64 = (0..3).map(|d| high[d] - low[d]).fold(0.0, f64::max);
+    let top = ((1u64 << 21) - 1) as f64;
+    let scale = if spread > 0.0 { top / spread } else { 0.0 };
+    // Spreads the low 21 bits of v to every third bit.
+    let spread_bits = |v: u64| {
+        let mut v = v & 0x1f_ffff;
+        v = (v | v << 32) & 0x1f_0000_0000_ffff;
+        v = (v | v << 16) & 0x1f_0000_ff00_00ff;
+        v = (v | v << 8) & 0x100f_00f0_0f00_f00f;
+        v = (v | v << 4) & 0x10c3_0c30_c30c_30c3;
+        (v | v << 2) & 0x1249_2492_4924_9249
+    };
+    let mut keyed: Vec<(u64, u32)> = mesh
+        .cells
+        .par_iter()
+        .enumerate()
+        .map(|(c, cell)| {
+            let mut x = [0.0; 3];
+            for &v in cell.nodes.iter().take(nv) {
+                for d in 0..3 {
+                    x[d] += mesh.nodes[v as usize][d] / nv as f64;
+                }
+            }
+            let code = (0..3).fold(0u64, |code, d| {
+                let q = ((x[d] - low[d]) * scale).clamp(0.0, top) as u64;
+                code | spread_bits(q) << d
+            });
+            (code, c as u32)
+        })
+        .collect();
+    keyed.par_sort_unstable();
+    keyed.into_iter().map(|(_, c)| c).collect()
+}
+
+/// Greedy colouring of the runs (run k's distinct nodes at
+/// `run_nodes[run_start[k]..run_start[k + 1]]`) so that runs of one colour share no node:
+/// each run, in order, takes the lowest of 64 colours not yet used by a run touching one of
+/// its nodes (a bit mask per node). Returns the runs of each colour and, in order, those
+/// that found all 64 taken.
+fn colour_runs(run_start: &[usize], run_nodes: &[u32], nodes: usize) -> (Vec<Vec<u32>>, Vec<u32>) {
+    let mut used = vec![0u64; nodes];
+    let mut colours: Vec<Vec<u32>> = Vec::new();
+    let mut sequential = Vec::new();
+    for (k, w) in run_start.windows(2).enumerate() {
+        let run = &run_nodes[w[0]..w[1]];
+        let taken = run.iter().fold(0u64, |mask, &v| mask | used[v as usize]);
+        if taken == u64::MAX {
+            sequential.push(k as u32);
+            continue;
+        }
+        let colour = taken.trailing_ones() as usize;
+        if colour == colours.len() {
+            colours.push(Vec::new());
+        }
+        colours[colour].push(k as u32);
+        run.iter().for_each(|&v| used[v as usize] |= 1 << colour);
+    }
+    (colours, sequential)
+}
+
+/// How a node enters the reduced unknowns.
+const FREE: u32 = u32::MAX;
+const FIXED: u32 = u32::MAX - 1;
+
+/// The reduced numbering of [`Constraints`] in compact form: per node its first reduced dof
+/// and whether it is free, fixed or sliding (then its tangents).
+pub(crate) struct ReducedNodes {
+    pub dim: usize,
+    /// First reduced dof of each node (`len = nodes + 1`).
+    first: Vec<usize>,
+    /// FREE, FIXED, or the index of a sliding node's tangents in `frames`.
+    kind: Vec<u32>,
+    frames: Vec<[[f64; 3]; 2]>,
+}
+
+impl ReducedNodes {
+    pub fn new(constraints: &Constraints) -> Self {
+        let mut frames = Vec::new();
+        let kind = (0..constraints.count.len())
+            .map(|node| {
+                if constraints.count[node] == 0 {
+                    FIXED
+                } else if constraints.identity[node] {
+                    FREE
+                } else {
+                    let q = &constraints.directions[node];
+                    frames.push([q[0], q[1]]);
+                    (frames.len() - 1) as u32
+                }
+            })
+            .collect();
+        ReducedNodes {
+            dim: constraints.dim,
+            first: constraints.first.clone(),
+            kind,
+            frames,
+        }
+    }
+
+    /// Number of reduced unknowns.
+    pub fn len(&self) -> usize {
+        self.first.last().copied().unwrap_or(0)
+    }
+
+    /// Number of nodes.
+    pub fn nodes(&self) -> usize {
+        self.kind.len()
+    }
+
+    /// First reduced dof of each node (`len = nodes + 1`).
+    pub fn first(&self) -> &[usize] {
+        &self.first
+    }
+
+    /// Whether `node` has no free direction.
+    pub fn is_fixed(&self, node: usize) -> bool {
+        self.kind[node] == FIXED
+    }
+
+    /// Node `node`'s displacement Q_nᵀ y_n from the reduced vector `y` (0 when fixed).
+    #[inline]
+    pub fn expand(&self, node: usize, y: &[f64]) -> [f64; 3] {
+        let f = self.first[node];
+        let mut v = [0.0; 3];
+        match self.kind[node] {
+            FIXED => {}
+            // An element-wise copy: `copy_from_slice` of a run-time length calls memcpy.
+            FREE => (0..self.dim).for_each(|d| v[d] = y[f + d]),
+            frame => {
+                let q = &self.frames[frame as usize];
+                for (i, qi) in q.iter().enumerate().take(self.dim - 1) {
+                    for d in 0..self.dim {
+                        v[d] += y[f + i] * qi[d];
+                    }
+                }
+            }
+        }
+        v
+    }
+
+    /// Adds Q_n v to node `node`'s reduced dofs through `add(dof, value)`.
+    #[inline]
+    pub fn restrict(&self, node: usize, v: [f64; 3], add: impl Fn(usize, f64)) {
+        let f = self.first[node];
+        match self.kind[node] {
+            FIXED => {}
+            FREE => (0..self.dim).for_each(|d| add(f + d, v[d])),
+            frame => {
+                let q = &self.frames[frame as usize];
+                for (i, qi) in q.iter().enumerate().take(self.dim - 1) {
+                    add(f + i, (0..self.dim).map(|d| qi[d] * v[d]).sum());
+                }
+            }
+        }
+    }
+
+    /// The free directions of `node` and their number (0 when fixed).
+    pub fn directions(&self, node: usize) -> ([[f64; 3]; 3], usize) {
+        let mut q = [[0.0; 3]; 3];
+        match self.kind[node] {
+            FIXED => (q, 0),
+            FREE => {
+                (0..3).for_each(|d| q[d][d] = 1.0);
+                (q, self.dim)
+            }
+            frame => {
+                q[..2].copy_from_slice(&self.frames[frame as usize]);
+                (q, self.dim - 1)
+            }
+        }
+    }
+}
+
+/// A vector summed from contributions that threads add to disjoint entries at a time (runs
+/// of one colour): atomics only make that sharing expressible without `unsafe`; plain loads
+/// and stores suffice.
+#[derive(Default)]
+pub(crate) struct SharedSum(Mutex<Vec<AtomicU64>>);
+
+impl SharedSum {
+    /// y = the sum of what `fill(sums)` adds with [`Sums::add`].
+    pub fn collect(&self, y: &mut [f64], fill: impl FnOnce(Sums)) {
+        let mut sums = self
+            .0
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner());
+        if sums.len() != y.len() {
+            *sums = (0..y.len()).map(|_| AtomicU64::new(0)).collect();
+        } else {
+            sums.par_iter().for_each(|s| s.store(0, Ordering::Relaxed));
+        }
+        let sums = &*sums;
+        fill(Sums(sums));
+        y.par_iter_mut()
+            .zip(sums.par_iter())
+            .for_each(|(yi, s)| *yi = f64::from_bits(s.load(Ordering::Relaxed)));
+    }
+}
+
+/// The entries of a [`SharedSum`] being summed.
+#[derive(Clone, Copy)]
+pub(crate) struct Sums<'a>(&'a [AtomicU64]);
+
+impl Sums<'_> {
+    /// Adds `value` to entry `i`.
+    #[inline]
+    pub fn add(&self, i: usize, value: f64) {
+        add_to(&self.0[i], value);
+    }
+}
+
+/// Adds `value` to the f64 in `slot`, which no other thread touches meanwhile.
+#[inline]
+pub(crate) fn add_to(slot: &AtomicU64, value: f64) {
+    let sum = f64::from_bits(slot.load(Ordering::Relaxed)) + value;
+    slot.store(sum.to_bits(), Ordering::Relaxed);
+}
