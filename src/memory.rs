@@ -13,15 +13,15 @@ use hocurve_nodes::Shape;
 /// p-multigrid levels follow. With a margin of ~15 %.
 pub const BYTES_PER_UNKNOWN_AND_ELEMENT_NODE: f64 = 150.0;
 
-/// Bytes per unknown on meshes of simplices, whose stiffness is applied cell by cell and
-/// never stored (`hocurve_elastic`'s matrix-free operator): this plus
-/// [`MATRIX_FREE_BYTES_PER_ELEMENT_NODE`] per node of an element. Measured: 670 and 690 on
-/// 97 k and 279 k sphere tetrahedra at p = 3 (1.2 M and 3.6 M unknowns: 0.84 and 2.5 GB),
-/// 940 on the 5.7 k-tet bundled sphere at p = 4 (where the mesh's fixed costs weigh more).
-/// With a margin of ~15 %.
-pub const MATRIX_FREE_BYTES_PER_UNKNOWN: f64 = 600.0;
-/// See [`MATRIX_FREE_BYTES_PER_UNKNOWN`]: the prolongations and cell lists grow with p.
-pub const MATRIX_FREE_BYTES_PER_ELEMENT_NODE: f64 = 10.0;
+/// Bytes per unknown on meshes of simplices, whose stiffness and p-multigrid transfers are
+/// applied cell by cell and never stored (`hocurve_elastic`'s matrix-free operator): this
+/// plus [`MATRIX_FREE_BYTES_PER_ELEMENT_NODE`] per node of an element. Measured: 465, 450 and
+/// 447 on 97 k, 279 k and 948 k sphere tetrahedra at p = 3 (1.2, 3.6 and 12.5 M unknowns:
+/// 0.58, 1.7 and 5.6 GB), 460 on the 5.7 k-tet bundled sphere at p = 4. With a margin of
+/// ~20 % at p = 3.
+pub const MATRIX_FREE_BYTES_PER_UNKNOWN: f64 = 450.0;
+/// See [`MATRIX_FREE_BYTES_PER_UNKNOWN`]: the order-p cells' node lists grow with p.
+pub const MATRIX_FREE_BYTES_PER_ELEMENT_NODE: f64 = 5.0;
 
 /// The size of the order-`order` mesh of `linear` and its estimated peak memory.
 #[derive(Debug, Clone, Copy, PartialEq)]

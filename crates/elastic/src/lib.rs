@@ -62,6 +62,7 @@ mod smoother;
 mod solve;
 mod sparse;
 mod sparsity;
+mod transfer;
 mod vector_ops;
 
 pub use assembly::{assemble_load, assemble_stiffness, BodyForce, StiffnessMatrix};

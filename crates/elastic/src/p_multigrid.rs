@@ -39,6 +39,7 @@ use crate::pcg::{LinearOperator, Preconditioner};
 use crate::smoother::{ChebyshevSmoother, SmootherScratch};
 use crate::sparse::{from_rows, transpose, Cholesky};
 use crate::sparsity::{node_cells, Adjacency};
+use crate::transfer::CellTransfer;
 use crate::vector_ops::spmv;
 use crate::{ElasticError, Material, SolverOptions, StiffnessMatrix};
 
@@ -51,6 +52,50 @@ pub(crate) fn level_orders(p: usize) -> Vec<usize> {
     (1..=p.max(1)).rev().collect()
 }
 
+/// From a level's next coarser unknowns to its own, and back.
+enum Transfer {
+    /// P and Pᵀ as sparse matrices.
+    Matrices {
+        prolongation: StiffnessMatrix,
+        restriction: StiffnessMatrix,
+    },
+    /// Applied cell by cell.
+    Cells(Box<CellTransfer>),
+}
+
+impl Transfer {
+    fn matrix(prolongation: StiffnessMatrix) -> Self {
+        let restriction = transpose(&prolongation);
+        Transfer::Matrices {
+            prolongation,
+            restriction,
+        }
+    }
+
+    fn coarse_len(&self) -> usize {
+        match self {
+            Transfer::Matrices { prolongation, .. } => prolongation.cols(),
+            Transfer::Cells(t) => t.coarse_len(),
+        }
+    }
+
+    /// fine = P coarse.
+    fn prolong(&self, coarse: &[f64], fine: &mut [f64]) {
+        match self {
+            Transfer::Matrices { prolongation, .. } => spmv(prolongation, coarse, fine),
+            Transfer::Cells(t) => t.prolong(coarse, fine),
+        }
+    }
+
+    /// coarse = Pᵀ fine.
+    fn restrict(&self, fine: &[f64], coarse: &mut [f64]) {
+        match self {
+            Transfer::Matrices { restriction, .. } => spmv(restriction, fine, coarse),
+            Transfer::Cells(t) => t.restrict(fine, coarse),
+        }
+    }
+}
+
 /// A level above the coarsest.
 struct Level<'a> {
     /// The operator of the smoother and the residuals: the caller's on the finest level,
@@ -59,8 +104,7 @@ struct Level<'a> {
     operator: Box<dyn LinearOperator + 'a>,
     smoother: ChebyshevSmoother,
     /// From the next coarser level's unknowns to this level's.
-    prolongation: StiffnessMatrix,
-    restriction: StiffnessMatrix,
+    transfer: Transfer,
     smoothing: SmootherScratch,
     /// This level's residual and post-smoothing correction.
     residual: Vec<f64>,
@@ -83,10 +127,10 @@ pub(crate) struct PMultigrid<'a> {
 }
 
 /// What the set-up needs of a level besides its matrix.
-struct LevelMesh<'m> {
-    mesh: std::borrow::Cow<'m, HighOrderMesh>,
-    constraints: std::borrow::Cow<'m, Constraints>,
-    cells_of_node: std::borrow::Cow<'m, Adjacency>,
+pub(crate) struct LevelMesh<'m> {
+    pub mesh: std::borrow::Cow<'m, HighOrderMesh>,
+    pub constraints: std::borrow::Cow<'m, Constraints>,
+    pub cells_of_node: std::borrow::Cow<'m, Adjacency>,
 }
 
 impl<'a> PMultigrid<'a> {
@@ -295,12 +339,26 @@ impl<'a> PMultigrid<'a> {
             }
             level_meshes.push(level);
         }
-        let mut prolongations = level_meshes
+        // Between matrix-free levels (simplices), cell by cell; else as sparse matrices.
+        let mut transfers = level_meshes
             .windows(2)
-            .map(|pair| prolongation(&pair[0], &pair[1]))
-            .collect::<Result<Vec<_>, _>>()?;
+            .map(|pair| {
+                if matrix_free {
+                    let (fine, coarse) = (&pair[0], &pair[1]);
+                    let transfer = CellTransfer::new(
+                        &fine.mesh,
+                        &fine.constraints,
+                        &coarse.mesh,
+                        &coarse.constraints,
+                    )?;
+                    Ok(Transfer::Cells(Box::new(transfer)))
+                } else {
+                    prolongation(&pair[0], &pair[1]).map(Transfer::matrix)
+                }
+            })
+            .collect::<Result<Vec<_>, ElasticError>>()?;
         // Below a smoothed p = 1 level: the aggregates.
-        prolongations.extend(aggregation);
+        transfers.extend(aggregation.map(Transfer::matrix));
         // The p = 1 matrix (or, above DIRECT_COARSE_LIMIT unknowns, its aggregates'), if the
         // hierarchy reached it, is factorised; if the hierarchy stopped early (no free
         // vertex), the last level has no coarse correction.
@@ -310,19 +368,17 @@ impl<'a> PMultigrid<'a> {
         let coarse_seconds = start.elapsed().as_secs_f64() - smoother_seconds;
 
         let mut levels = Vec::new();
-        let mut prolongations = prolongations.into_iter();
+        let mut transfers = transfers.into_iter();
         for ((operator, smoother), level) in smoothers.into_iter().zip(&level_meshes) {
             let size = level.constraints.len();
-            let prolongation = prolongations
+            let transfer = transfers
                 .next()
-                .unwrap_or_else(|| from_rows(0, vec![Vec::new(); size]));
-            let restriction = transpose(&prolongation);
-            let coarse_size = prolongation.cols();
+                .unwrap_or_else(|| Transfer::matrix(from_rows(0, vec![Vec::new(); size])));
+            let coarse_size = transfer.coarse_len();
             levels.push(Level {
                 operator,
                 smoother,
-                prolongation,
-                restriction,
+                transfer,
                 smoothing: SmootherScratch::new(size),
                 residual: vec![0.0; size],
                 correction: vec![0.0; size],
@@ -417,7 +473,10 @@ fn same_entity_node_unchecked(from: &HighOrderMesh, to: &HighOrderMesh, n: usize
 }
 
 /// P from the unknowns of `coarse` to those of `fine` (consecutive levels).
-fn prolongation(fine: &LevelMesh, coarse: &LevelMesh) -> Result<StiffnessMatrix, ElasticError> {
+pub(crate) fn prolongation(
+    fine: &LevelMesh,
+    coarse: &LevelMesh,
+) -> Result<StiffnessMatrix, ElasticError> {
     let (fm, cm) = (&*fine.mesh, &*coarse.mesh);
     let (fc, cc) = (&*fine.constraints, &*coarse.constraints);
     // Per shape: the order-q basis at each order-p reference node, nonzero weights only.
@@ -500,18 +559,18 @@ fn v_cycle(levels: &mut [Level], coarsest: Option<&Cholesky>, r: &[f64], z: &mut
     level.smoother.apply(a, r, z, &mut level.smoothing);
     if !level.coarse_rhs.is_empty() {
         a.residual(r, z, &mut level.residual);
-        spmv(&level.restriction, &level.residual, &mut level.coarse_rhs);
+        level
+            .transfer
+            .restrict(&level.residual, &mut level.coarse_rhs);
         v_cycle(
             coarser,
             coarsest,
             &level.coarse_rhs,
             &mut level.coarse_solution,
         );
-        spmv(
-            &level.prolongation,
-            &level.coarse_solution,
-            &mut level.correction,
-        );
+        level
+            .transfer
+            .prolong(&level.coarse_solution, &mut level.correction);
         z.par_iter_mut()
             .zip(&level.correction)
             .for_each(|(zi, ci)| *zi += ci);

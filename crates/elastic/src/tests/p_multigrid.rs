@@ -103,7 +103,7 @@ fn largest_eigenvalue_of_tridiagonal_matrices() {
 }
 
 /// The levels' meshes of the cube system at order p and q < p.
-fn levels(p: usize, q: usize, slide: bool) -> (LevelMesh<'static>, LevelMesh<'static>) {
+pub(crate) fn levels(p: usize, q: usize, slide: bool) -> (LevelMesh<'static>, LevelMesh<'static>) {
     let (mesh, _, _, constraints, _) = cube_system(2, p, slide);
     let coarse = mesh.straight_of_order(q).unwrap();
     let coarse_constraints = carried_constraints(&mesh, &constraints, &coarse);
