@@ -86,7 +86,17 @@ impl CellRuns {
 
     /// Run k's distinct nodes, increasing.
     pub fn nodes_of_run(&self, k: usize) -> &[u32] {
-        &self.run_nodes[self.run_start[k]..self.run_start[k + 1]]
+        &self.run_nodes[self.run_range(k)]
+    }
+
+    /// Where run k's distinct nodes are in [`CellRuns::run_nodes`].
+    pub fn run_range(&self, k: usize) -> std::ops::Range<usize> {
+        self.run_start[k]..self.run_start[k + 1]
+    }
+
+    /// The distinct nodes of every run, run after run.
+    pub fn run_nodes(&self) -> &[u32] {
+        &self.run_nodes
     }
 
     /// The nodes of the cell at `position` as positions in its run's node list.
@@ -187,6 +197,10 @@ fn colour_runs(run_start: &[usize], run_nodes: &[u32], nodes: usize) -> (Vec<Vec
 /// How a node enters the reduced unknowns.
 const FREE: u32 = u32::MAX;
 const FIXED: u32 = u32::MAX - 1;
+/// A [`ReducedNodes::slot`]: the first reduced dof of a free node, SLIDING | the index of a
+/// sliding node's frame, or FIXED_SLOT.
+const SLIDING: u32 = 1 << 31;
+const FIXED_SLOT: u32 = u32::MAX;
 
 /// The reduced numbering of [`Constraints`] in compact form: per node its first reduced dof
 /// and whether it is free, fixed or sliding (then its tangents).
@@ -197,11 +211,13 @@ pub(crate) struct ReducedNodes {
     /// FREE, FIXED, or the index of a sliding node's tangents in `frames`.
     kind: Vec<u32>,
     frames: Vec<[[f64; 3]; 2]>,
+    /// The first reduced dof of each sliding node, by frame.
+    frame_first: Vec<usize>,
 }
 
 impl ReducedNodes {
     pub fn new(constraints: &Constraints) -> Self {
-        let mut frames = Vec::new();
+        let (mut frames, mut frame_first) = (Vec::new(), Vec::new());
         let kind = (0..constraints.count.len())
             .map(|node| {
                 if constraints.count[node] == 0 {
@@ -211,6 +227,7 @@ impl ReducedNodes {
                 } else {
                     let q = &constraints.directions[node];
                     frames.push([q[0], q[1]]);
+                    frame_first.push(constraints.first[node]);
                     (frames.len() - 1) as u32
                 }
             })
@@ -220,6 +237,59 @@ impl ReducedNodes {
             first: constraints.first.clone(),
             kind,
             frames,
+            frame_first,
+        }
+    }
+
+    /// Whether every node has a [`ReducedNodes::slot`] (fewer than 2³¹ unknowns and sliding
+    /// nodes).
+    pub fn slots_fit(&self) -> bool {
+        self.len() < SLIDING as usize && self.frames.len() < SLIDING as usize
+    }
+
+    /// Node `node`'s reduced dofs in one word, to keep next to a run's nodes: a run's
+    /// gathers then read one random place per node (its values) instead of three.
+    pub fn slot(&self, node: usize) -> u32 {
+        match self.kind[node] {
+            FIXED => FIXED_SLOT,
+            FREE => self.first[node] as u32,
+            frame => SLIDING | frame,
+        }
+    }
+
+    /// [`ReducedNodes::expand`] by slot.
+    #[inline(always)]
+    pub fn expand_slot(&self, slot: u32, y: &[f64]) -> [f64; 3] {
+        let mut v = [0.0; 3];
+        if slot == FIXED_SLOT {
+        } else if slot & SLIDING == 0 {
+            let f = slot as usize;
+            (0..self.dim).for_each(|d| v[d] = y[f + d]);
+        } else {
+            let frame = (slot & !SLIDING) as usize;
+            let (q, f) = (&self.frames[frame], self.frame_first[frame]);
+            for (i, qi) in q.iter().enumerate().take(self.dim - 1) {
+                for d in 0..self.dim {
+                    v[d] += y[f + i] * qi[d];
+                }
+            }
+        }
+        v
+    }
+
+    /// [`ReducedNodes::restrict`] by slot.
+    #[inline(always)]
+    pub fn restrict_slot(&self, slot: u32, v: [f64; 3], add: impl Fn(usize, f64)) {
+        if slot == FIXED_SLOT {
+        } else if slot & SLIDING == 0 {
+            let f = slot as usize;
+            (0..self.dim).for_each(|d| add(f + d, v[d]));
+        } else {
+            let frame = (slot & !SLIDING) as usize;
+            let (q, f) = (&self.frames[frame], self.frame_first[frame]);
+            for (i, qi) in q.iter().enumerate().take(self.dim - 1) {
+                add(f + i, (0..self.dim).map(|d| qi[d] * v[d]).sum());
+            }
         }
     }
 

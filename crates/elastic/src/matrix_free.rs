@@ -135,6 +135,8 @@ pub(crate) struct MatrixFreeStiffness {
     lambda: f64,
     mu: f64,
     nodes: ReducedNodes,
+    /// The [`ReducedNodes::slot`] of each of [`CellRuns::run_nodes`].
+    slots: Vec<u32>,
     /// Whether the CPU has AVX2 (for [`MatrixFreeStiffness::cell_action`]).
     avx2: bool,
     sums: SharedSum,
@@ -219,6 +221,18 @@ impl MatrixFreeStiffness {
             })
             .collect::<Result<Vec<_>, _>>()?;
         let (lambda, mu) = material.lame();
+        let nodes = ReducedNodes::new(constraints);
+        if !nodes.slots_fit() {
+            return Err(ElasticError::Factorization {
+                what: "matrix-free operator",
+                message: format!("{} unknowns do not fit 31-bit indices", nodes.len()),
+            });
+        }
+        let slots = runs
+            .run_nodes()
+            .par_iter()
+            .map(|&v| nodes.slot(v as usize))
+            .collect();
         Ok(MatrixFreeStiffness {
             dim,
             reference,
@@ -226,7 +240,8 @@ impl MatrixFreeStiffness {
             geometry,
             lambda,
             mu,
-            nodes: ReducedNodes::new(constraints),
+            nodes,
+            slots,
             #[cfg(target_arch = "x86_64")]
             avx2: std::arch::is_x86_feature_detected!("avx2"),
             #[cfg(not(target_arch = "x86_64"))]
@@ -246,8 +261,10 @@ impl MatrixFreeStiffness {
         let dim = self.dim;
         let u = &constraints.prescribed;
         let mut out = vec![0.0; self.len()];
+        let run_nodes = self.runs.run_nodes();
         self.accumulate(
-            |node| {
+            |i| {
+                let node = run_nodes[i] as usize;
                 let mut v = [0.0; 3];
                 if self.nodes.is_fixed(node) {
                     (0..dim).for_each(|d| v[d] = u[node * dim + d]);
@@ -260,20 +277,21 @@ impl MatrixFreeStiffness {
         out
     }
 
-    /// y = Σ over cells of Tᵀ K_e x_e, the cell's nodal displacements x_e from `gather`.
+    /// y = Σ over cells of Tᵀ K_e x_e, the displacement of each cell node from `gather(i)`,
+    /// i its place in [`CellRuns::run_nodes`].
     fn accumulate(&self, gather: impl Fn(usize) -> [f64; 3] + Sync, y: &mut [f64]) {
         let (n, dim) = (self.reference.n, self.dim);
         self.sums.collect(y, |sums| {
             self.runs
                 .for_each_run(CellScratch::default, |scratch, run| {
-                    let nodes = self.runs.nodes_of_run(run);
-                    let len = nodes.len();
+                    let range = self.runs.run_range(run);
+                    let len = range.len();
                     // The run's nodal values (component d of its node j at d len + j) and results.
                     scratch.run_x.resize(dim * len, 0.0);
                     scratch.run_y.clear();
                     scratch.run_y.resize(dim * len, 0.0);
-                    for (j, &node) in nodes.iter().enumerate() {
-                        let v = gather(node as usize);
+                    for (j, i) in range.clone().enumerate() {
+                        let v = gather(i);
                         for d in 0..dim {
                             scratch.run_x[d * len + j] = v[d];
                         }
@@ -294,11 +312,11 @@ impl MatrixFreeStiffness {
                             }
                         }
                     }
-                    for (j, &node) in nodes.iter().enumerate() {
+                    for (j, &slot) in self.slots[range].iter().enumerate() {
                         let mut v = [0.0; 3];
                         (0..dim).for_each(|d| v[d] = scratch.run_y[d * len + j]);
                         self.nodes
-                            .restrict(node as usize, v, |i, value| sums.add(i, value));
+                            .restrict_slot(slot, v, |i, value| sums.add(i, value));
                     }
                 });
         });
@@ -482,7 +500,7 @@ impl MatrixFreeStiffness {
 
 impl LinearOperator for MatrixFreeStiffness {
     fn apply(&self, x: &[f64], y: &mut [f64]) {
-        self.accumulate(|node| self.nodes.expand(node, x), y);
+        self.accumulate(|i| self.nodes.expand_slot(self.slots[i], x), y);
     }
 }
 

@@ -115,6 +115,8 @@ fn the_cell_by_cell_action_equals_the_assembled_condensed_matrix() {
     let material = Material::default();
     for (linear, p) in [
         (crate::p_multigrid::tests::tet_cube(2), 1),
+        // 384 cells: several runs of several colours.
+        (crate::p_multigrid::tests::tet_cube(4), 2),
         (crate::p_multigrid::tests::tet_cube(2), 3),
         (crate::p_multigrid::tests::tet_cube(1), 5),
         (tri_square(3), 2),

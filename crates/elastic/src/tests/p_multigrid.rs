@@ -103,8 +103,18 @@ fn largest_eigenvalue_of_tridiagonal_matrices() {
 }
 
 /// The levels' meshes of the cube system at order p and q < p.
-pub(crate) fn levels(p: usize, q: usize, slide: bool) -> (LevelMesh<'static>, LevelMesh<'static>) {
-    let (mesh, _, _, constraints, _) = cube_system(2, p, slide);
+fn levels(p: usize, q: usize, slide: bool) -> (LevelMesh<'static>, LevelMesh<'static>) {
+    levels_of(2, p, q, slide)
+}
+
+/// The same on the n × n × n cube.
+pub(crate) fn levels_of(
+    n: usize,
+    p: usize,
+    q: usize,
+    slide: bool,
+) -> (LevelMesh<'static>, LevelMesh<'static>) {
+    let (mesh, _, _, constraints, _) = cube_system(n, p, slide);
     let coarse = mesh.straight_of_order(q).unwrap();
     let coarse_constraints = carried_constraints(&mesh, &constraints, &coarse);
     let level = |mesh: HighOrderMesh, constraints: Constraints| LevelMesh {
