@@ -36,6 +36,8 @@ use crate::{ElasticError, Material};
 /// Eigenvalues of [S_αβ] below this fraction of the largest are round-off (the exact ones
 /// are zero beyond rank m; the smallest kept one is above 1e-3 of the largest up to p = 10).
 const RANK_TOLERANCE: f64 = 1e-10;
+/// Outputs accumulated together in the cell action's two products (two AVX2 registers).
+const LANES: usize = 8;
 
 /// The factors R_α of one simplex's reference stiffness matrices: S_αβ = R_αᵀ R_β.
 #[derive(Debug, Clone)]
@@ -45,10 +47,14 @@ pub(crate) struct ReferenceGradients {
     n: usize,
     /// Rank m (the dimension of P_(p−1)).
     m: usize,
-    /// R_α[k][b] at `(α m + k) n + b`.
+    /// dim m rounded up to [`LANES`], and n likewise.
+    rows_padded: usize,
+    n_padded: usize,
+    /// R_α[k][b] at `(α m + k) n_padded + b`, zero beyond n.
     factors: Vec<f64>,
-    /// The same transposed: R_α[k][b] at `b dim m + α m + k` (both orders keep the two
-    /// products of the action as unit-stride updates, which vectorise).
+    /// The same transposed: R_α[k][b] at `b rows_padded + α m + k`, zero beyond dim m. Both
+    /// orders let the two products of the action accumulate [`LANES`] outputs in registers
+    /// along unit-stride rows.
     transposed: Vec<f64>,
     /// S_αβ[a][b] at `(α dim + β) n² + a n + b` (for the diagonal blocks).
     stiffness: Vec<Vec<f64>>,
@@ -95,17 +101,23 @@ impl ReferenceGradients {
             }
         }
         let rows = dim * m;
-        let mut transposed = vec![0.0; rows * n];
+        let rows_padded = rows.div_ceil(LANES) * LANES;
+        let n_padded = n.div_ceil(LANES) * LANES;
+        let mut transposed = vec![0.0; rows_padded * n];
+        let mut padded = vec![0.0; rows * n_padded];
         for i in 0..rows {
             for b in 0..n {
-                transposed[b * rows + i] = factors[i * n + b];
+                transposed[b * rows_padded + i] = factors[i * n + b];
+                padded[i * n_padded + b] = factors[i * n + b];
             }
         }
         Ok(ReferenceGradients {
             dim,
             n,
             m,
-            factors,
+            rows_padded,
+            n_padded,
+            factors: padded,
             transposed,
             stiffness: s.clone(),
         })
@@ -120,7 +132,7 @@ impl ReferenceGradients {
     /// R_α[k][b].
     #[cfg(test)]
     pub fn factor(&self, alpha: usize, k: usize, b: usize) -> f64 {
-        self.factors[(alpha * self.m + k) * self.n + b]
+        self.factors[(alpha * self.m + k) * self.n_padded + b]
     }
 }
 
@@ -280,7 +292,7 @@ impl MatrixFreeStiffness {
     /// y = Σ over cells of Tᵀ K_e x_e, the displacement of each cell node from `gather(i)`,
     /// i its place in [`CellRuns::run_nodes`].
     fn accumulate(&self, gather: impl Fn(usize) -> [f64; 3] + Sync, y: &mut [f64]) {
-        let (n, dim) = (self.reference.n, self.dim);
+        let (n, n_padded, dim) = (self.reference.n, self.reference.n_padded, self.dim);
         self.sums.collect(y, |sums| {
             self.runs
                 .for_each_run(CellScratch::default, |scratch, run| {
@@ -308,7 +320,7 @@ impl MatrixFreeStiffness {
                         self.cell_action(c, scratch);
                         for (a, &j) in local.iter().enumerate() {
                             for d in 0..dim {
-                                scratch.run_y[d * len + j as usize] += scratch.y[d * n + a];
+                                scratch.run_y[d * len + j as usize] += scratch.y[d * n_padded + a];
                             }
                         }
                     }
@@ -343,58 +355,89 @@ impl MatrixFreeStiffness {
 
     #[inline(always)]
     fn cell_action_body(&self, c: usize, scratch: &mut CellScratch) {
-        let ReferenceGradients { dim, n, m, .. } = self.reference;
-        let rows = dim * m;
+        if self.dim == 2 {
+            self.cell_action_in::<2>(c, scratch);
+        } else {
+            self.cell_action_in::<3>(c, scratch);
+        }
+    }
+
+    /// The cell action in dimension D (a constant, so that the accumulators stay in
+    /// registers).
+    #[inline(always)]
+    fn cell_action_in<const D: usize>(&self, c: usize, scratch: &mut CellScratch) {
+        let ReferenceGradients {
+            n,
+            m,
+            rows_padded,
+            n_padded,
+            ..
+        } = self.reference;
+        let rows = D * m;
         let g = &self.geometry[c];
         let inv = |alpha: usize, d: usize| g[3 * alpha + d];
         let w = g[9];
         let CellScratch { x, y, modes, .. } = scratch;
-        // U_d[α m + k] = Σ_b R_α[k][b] X_d[b], as updates by the rows of Rᵀ.
-        modes.clear();
-        modes.resize(dim * rows, 0.0);
-        for (b, column) in self.reference.transposed.chunks_exact(rows).enumerate() {
-            for d in 0..dim {
-                let xd = x[d * n + b];
-                for (u, r) in modes[d * rows..(d + 1) * rows].iter_mut().zip(column) {
-                    *u += xd * r;
+        // U_d[α m + k] = Σ_b R_α[k][b] X_d[b], LANES of (α, k) at a time.
+        modes.resize(D * rows_padded, 0.0);
+        let rt = &self.reference.transposed;
+        for i0 in (0..rows_padded).step_by(LANES) {
+            let mut acc = [[0.0f64; LANES]; D];
+            for b in 0..n {
+                let column = &rt[b * rows_padded + i0..b * rows_padded + i0 + LANES];
+                for d in 0..D {
+                    let xd = x[d * n + b];
+                    for k in 0..LANES {
+                        acc[d][k] += xd * column[k];
+                    }
                 }
+            }
+            for d in 0..D {
+                modes[d * rows_padded + i0..d * rows_padded + i0 + LANES].copy_from_slice(&acc[d]);
             }
         }
         // Per mode: ∇u[d][c] = ∂u_d/∂x_c, the stress, and back to reference directions.
         for k in 0..m {
             let mut grad = [[0.0; 3]; 3];
-            for alpha in 0..dim {
-                for d in 0..dim {
-                    let u = modes[d * rows + alpha * m + k];
-                    for cc in 0..dim {
+            for alpha in 0..D {
+                for d in 0..D {
+                    let u = modes[d * rows_padded + alpha * m + k];
+                    for cc in 0..D {
                         grad[d][cc] += u * inv(alpha, cc);
                     }
                 }
             }
-            let trace: f64 = (0..dim).map(|d| grad[d][d]).sum();
+            let trace: f64 = (0..D).map(|d| grad[d][d]).sum();
             let mut stress = [[0.0; 3]; 3];
-            for d in 0..dim {
-                for cc in 0..dim {
+            for d in 0..D {
+                for cc in 0..D {
                     stress[d][cc] = w * self.mu * (grad[d][cc] + grad[cc][d]);
                 }
                 stress[d][d] += w * self.lambda * trace;
             }
-            for alpha in 0..dim {
-                for d in 0..dim {
-                    modes[d * rows + alpha * m + k] =
-                        (0..dim).map(|cc| stress[d][cc] * inv(alpha, cc)).sum();
+            for alpha in 0..D {
+                for d in 0..D {
+                    modes[d * rows_padded + alpha * m + k] =
+                        (0..D).map(|cc| stress[d][cc] * inv(alpha, cc)).sum();
                 }
             }
         }
-        // Y_d[b] = Σ_(α, k) R_α[k][b] V_d[α m + k], as updates by the rows of R.
-        y.clear();
-        y.resize(dim * n, 0.0);
-        for (i, row) in self.reference.factors.chunks_exact(n).enumerate() {
-            for d in 0..dim {
-                let v = modes[d * rows + i];
-                for (yb, r) in y[d * n..(d + 1) * n].iter_mut().zip(row) {
-                    *yb += v * r;
+        // Y_d[b] = Σ_(α, k) R_α[k][b] V_d[α m + k], LANES of b at a time.
+        y.resize(D * n_padded, 0.0);
+        let r = &self.reference.factors;
+        for b0 in (0..n_padded).step_by(LANES) {
+            let mut acc = [[0.0f64; LANES]; D];
+            for i in 0..rows {
+                let row = &r[i * n_padded + b0..i * n_padded + b0 + LANES];
+                for d in 0..D {
+                    let v = modes[d * rows_padded + i];
+                    for k in 0..LANES {
+                        acc[d][k] += v * row[k];
+                    }
                 }
+            }
+            for d in 0..D {
+                y[d * n_padded + b0..d * n_padded + b0 + LANES].copy_from_slice(&acc[d]);
             }
         }
     }
