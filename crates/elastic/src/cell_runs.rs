@@ -257,6 +257,18 @@ impl ReducedNodes {
         }
     }
 
+    /// The first reduced dof of the node with `slot`, if it has any.
+    #[inline(always)]
+    pub fn first_of_slot(&self, slot: u32) -> Option<usize> {
+        if slot == FIXED_SLOT {
+            None
+        } else if slot & SLIDING == 0 {
+            Some(slot as usize)
+        } else {
+            Some(self.frame_first[(slot & !SLIDING) as usize])
+        }
+    }
+
     /// [`ReducedNodes::expand`] by slot.
     #[inline(always)]
     pub fn expand_slot(&self, slot: u32, y: &[f64]) -> [f64; 3] {
@@ -398,11 +410,34 @@ impl SharedSum {
 pub(crate) struct Sums<'a>(&'a [AtomicU64]);
 
 impl Sums<'_> {
+    /// Hints the CPU to fetch entry `i` (see [`prefetch`]).
+    #[inline(always)]
+    pub fn prefetch(&self, i: usize) {
+        prefetch(self.0, i);
+    }
+
     /// Adds `value` to entry `i`.
     #[inline]
     pub fn add(&self, i: usize, value: f64) {
         add_to(&self.0[i], value);
     }
+}
+
+/// Hints the CPU to fetch the cache line of `data[i]` (nothing if i is out of range or off
+/// x86-64): the gathers and scatters of a run touch places scattered over vectors far larger
+/// than the caches, and asking for them some nodes ahead hides part of the wait.
+#[inline(always)]
+pub(crate) fn prefetch<T>(data: &[T], i: usize) {
+    #[cfg(target_arch = "x86_64")]
+    if i < data.len() {
+        // SAFETY: a prefetch is only a hint and never faults; the address lies in `data`.
+        unsafe {
+            use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+            _mm_prefetch::<_MM_HINT_T0>(data.as_ptr().add(i).cast());
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = (data, i);
 }
 
 /// Adds `value` to the f64 in `slot`, which no other thread touches meanwhile.

@@ -26,7 +26,7 @@ use hocurve_nodes::Shape;
 use rayon::prelude::*;
 
 use crate::block_jacobi::{block_offsets, BlockJacobi};
-use crate::cell_runs::{add_to, CellRuns, ReducedNodes, SharedSum};
+use crate::cell_runs::{add_to, prefetch, CellRuns, ReducedNodes, SharedSum};
 use crate::condensation::Constraints;
 use crate::element_matrix::invert_jacobian;
 use crate::pcg::LinearOperator;
@@ -36,6 +36,8 @@ use crate::{ElasticError, Material};
 /// Eigenvalues of [S_αβ] below this fraction of the largest are round-off (the exact ones
 /// are zero beyond rank m; the smallest kept one is above 1e-3 of the largest up to p = 10).
 const RANK_TOLERANCE: f64 = 1e-10;
+/// How many of a run's nodes ahead the gathers and scatters prefetch.
+const PREFETCH_AHEAD: usize = 12;
 /// Outputs accumulated together in the cell action's two products (two AVX2 registers).
 const LANES: usize = 8;
 
@@ -283,6 +285,7 @@ impl MatrixFreeStiffness {
                 }
                 v
             },
+            &[],
             &mut out,
         );
         out.par_iter_mut().for_each(|v| *v = -*v);
@@ -291,7 +294,8 @@ impl MatrixFreeStiffness {
 
     /// y = Σ over cells of Tᵀ K_e x_e, the displacement of each cell node from `gather(i)`,
     /// i its place in [`CellRuns::run_nodes`].
-    fn accumulate(&self, gather: impl Fn(usize) -> [f64; 3] + Sync, y: &mut [f64]) {
+    /// `source` is the vector `gather` reads (for prefetching; empty if none).
+    fn accumulate(&self, gather: impl Fn(usize) -> [f64; 3] + Sync, source: &[f64], y: &mut [f64]) {
         let (n, n_padded, dim) = (self.reference.n, self.reference.n_padded, self.dim);
         self.sums.collect(y, |sums| {
             self.runs
@@ -303,6 +307,11 @@ impl MatrixFreeStiffness {
                     scratch.run_y.clear();
                     scratch.run_y.resize(dim * len, 0.0);
                     for (j, i) in range.clone().enumerate() {
+                        if let Some(&ahead) = self.slots.get(i + PREFETCH_AHEAD) {
+                            if let Some(f) = self.nodes.first_of_slot(ahead) {
+                                prefetch(source, f);
+                            }
+                        }
                         let v = gather(i);
                         for d in 0..dim {
                             scratch.run_x[d * len + j] = v[d];
@@ -324,7 +333,12 @@ impl MatrixFreeStiffness {
                             }
                         }
                     }
-                    for (j, &slot) in self.slots[range].iter().enumerate() {
+                    for (j, &slot) in self.slots[range.clone()].iter().enumerate() {
+                        if let Some(&ahead) = self.slots.get(range.start + j + PREFETCH_AHEAD) {
+                            if let Some(f) = self.nodes.first_of_slot(ahead) {
+                                sums.prefetch(f);
+                            }
+                        }
                         let mut v = [0.0; 3];
                         (0..dim).for_each(|d| v[d] = scratch.run_y[d * len + j]);
                         self.nodes
@@ -543,7 +557,7 @@ impl MatrixFreeStiffness {
 
 impl LinearOperator for MatrixFreeStiffness {
     fn apply(&self, x: &[f64], y: &mut [f64]) {
-        self.accumulate(|i| self.nodes.expand_slot(self.slots[i], x), y);
+        self.accumulate(|i| self.nodes.expand_slot(self.slots[i], x), x, y);
     }
 }
 
