@@ -58,6 +58,34 @@ pub(crate) fn node_graph(mesh: &HighOrderMesh, cells_of_node: &Adjacency) -> Adj
 /// Greedy colouring: each cell, in order, takes the lowest colour not used by an earlier
 /// cell sharing a node with it. Returns the cells of each colour, in increasing order.
 pub(crate) fn colour_cells(mesh: &HighOrderMesh, cells_of_node: &Adjacency) -> Vec<Vec<u32>> {
+    colour_cells_by_masks(mesh).unwrap_or_else(|| colour_cells_by_neighbours(mesh, cells_of_node))
+}
+
+/// [`colour_cells`] with a mask per node of the colours of the cells coloured so far that
+/// hold it: O(cells × nodes per cell). None if more than 128 colours are needed.
+fn colour_cells_by_masks(mesh: &HighOrderMesh) -> Option<Vec<Vec<u32>>> {
+    let mut used = vec![0u128; mesh.nodes.len()];
+    let mut classes: Vec<Vec<u32>> = Vec::new();
+    for (c, cell) in mesh.cells.iter().enumerate() {
+        let taken = cell
+            .nodes
+            .iter()
+            .fold(0u128, |mask, &n| mask | used[n as usize]);
+        if taken == u128::MAX {
+            return None;
+        }
+        let k = taken.trailing_ones() as usize;
+        if k == classes.len() {
+            classes.push(Vec::new());
+        }
+        classes[k].push(c as u32);
+        cell.nodes.iter().for_each(|&n| used[n as usize] |= 1 << k);
+    }
+    Some(classes)
+}
+
+/// [`colour_cells`] by looking at every earlier cell around each node.
+fn colour_cells_by_neighbours(mesh: &HighOrderMesh, cells_of_node: &Adjacency) -> Vec<Vec<u32>> {
     let mut colour = vec![u32::MAX; mesh.cells.len()];
     let mut taken: Vec<bool> = Vec::new();
     let mut classes: Vec<Vec<u32>> = Vec::new();

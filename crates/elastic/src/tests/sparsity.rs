@@ -81,3 +81,24 @@ fn node_graph_of_quadratic_triangles() {
         assert!(graph.row(n).windows(2).all(|w| w[0] < w[1]));
     }
 }
+
+#[test]
+fn colouring_by_node_masks_equals_colouring_by_neighbours() {
+    for p in [1, 3] {
+        let linear = crate::p_multigrid::tests::tet_cube(4);
+        let mesh = HighOrderMesh::from_linear(&linear, p, NodeFamily::Equispaced).unwrap();
+        let around = node_cells(&mesh);
+        let by_masks = colour_cells_by_masks(&mesh).unwrap();
+        assert!(
+            by_masks.len() > 4,
+            "a real colouring: {} colours",
+            by_masks.len()
+        );
+        assert_eq!(by_masks, colour_cells_by_neighbours(&mesh, &around));
+    }
+    let strip = strip(7);
+    assert_eq!(
+        colour_cells_by_masks(&strip).unwrap(),
+        colour_cells_by_neighbours(&strip, &node_cells(&strip))
+    );
+}
