@@ -26,7 +26,7 @@ use std::collections::BTreeMap;
 use std::time::Instant;
 
 use hocurve_mesh::HighOrderMesh;
-use hocurve_nodes::{ReferenceElement, Shape};
+use hocurve_nodes::Shape;
 use rayon::prelude::*;
 
 use crate::aggregation::aggregation_level;
@@ -39,7 +39,7 @@ use crate::pcg::{LinearOperator, Preconditioner};
 use crate::smoother::{ChebyshevSmoother, SmootherScratch};
 use crate::sparse::{from_rows, transpose, Cholesky};
 use crate::sparsity::{node_cells, Adjacency};
-use crate::transfer::CellTransfer;
+use crate::transfer::{interpolation_weights, CellTransfer};
 use crate::vector_ops::spmv;
 use crate::{ElasticError, Material, SolverOptions, StiffnessMatrix};
 
@@ -480,30 +480,13 @@ pub(crate) fn prolongation(
     let (fm, cm) = (&*fine.mesh, &*coarse.mesh);
     let (fc, cc) = (&*fine.constraints, &*coarse.constraints);
     // Per shape: the order-q basis at each order-p reference node, nonzero weights only.
-    let mut weights: BTreeMap<Shape, Vec<Vec<(usize, f64)>>> = BTreeMap::new();
+    let mut weights: BTreeMap<Shape, Vec<Vec<(u16, f64)>>> = BTreeMap::new();
     for cell in &fm.cells {
         let shape = cell.kind;
         if weights.contains_key(&shape) {
             continue;
         }
-        let fine = ReferenceElement::shared(shape, fm.order, fm.family)?;
-        let coarse = ReferenceElement::shared(shape, cm.order, cm.family)?;
-        let basis = coarse.basis();
-        let mut values = vec![0.0; basis.len()];
-        let table = fine
-            .nodes()
-            .points()
-            .iter()
-            .map(|&xi| {
-                basis.eval(xi, &mut values);
-                values
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, w)| w.abs() > 1e-14)
-                    .map(|(j, &w)| (j, w))
-                    .collect()
-            })
-            .collect();
+        let table = interpolation_weights(shape, fm, cm)?;
         weights.insert(shape, table);
     }
     let dim = fc.dim;
@@ -519,7 +502,7 @@ pub(crate) fn prolongation(
                     entries.extend(
                         table[local]
                             .iter()
-                            .map(|&(j, w)| (coarse_cell.nodes[j] as usize, w)),
+                            .map(|&(j, w)| (coarse_cell.nodes[j as usize] as usize, w)),
                     );
                 }
             }

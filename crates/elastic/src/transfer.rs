@@ -50,26 +50,9 @@ impl CellTransfer {
     ) -> Result<Self, ElasticError> {
         // (Without cells any shape will do: there is nothing to transfer.)
         let shape = coarse.cells.first().map_or(Shape::Tet, |c| c.kind);
-        let fine_reference = ReferenceElement::shared(shape, fine.order, fine.family)?;
-        let coarse_reference = ReferenceElement::shared(shape, coarse.order, coarse.family)?;
-        let basis = coarse_reference.basis();
-        let mut values = vec![0.0; basis.len()];
-        let weights: Vec<Vec<(u16, f64)>> = fine_reference
-            .nodes()
-            .points()
-            .iter()
-            .map(|&xi| {
-                basis.eval(xi, &mut values);
-                values
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, w)| w.abs() > ZERO_WEIGHT)
-                    .map(|(j, &w)| (j as u16, w))
-                    .collect()
-            })
-            .collect();
+        let weights = interpolation_weights(shape, fine, coarse)?;
+        let coarse_n = shape.num_nodes(coarse.order);
         let fine_n = weights.len();
-        let coarse_n = basis.len();
         let runs = CellRuns::new(coarse, coarse_n);
         let mut fine_cells = Vec::with_capacity(runs.order.len() * fine_n);
         let mut owner_seen = vec![false; fine.nodes.len()];
@@ -167,6 +150,33 @@ impl CellTransfer {
     fn owned_of(&self, position: usize) -> &[u16] {
         &self.owned[self.owned_start[position]..self.owned_start[position + 1]]
     }
+}
+
+/// For each order-p reference node of `shape` (the family and order of `fine`): the
+/// order-q basis functions of `coarse` that do not vanish there, as (index, value).
+pub(crate) fn interpolation_weights(
+    shape: Shape,
+    fine: &HighOrderMesh,
+    coarse: &HighOrderMesh,
+) -> Result<Vec<Vec<(u16, f64)>>, ElasticError> {
+    let fine_reference = ReferenceElement::shared(shape, fine.order, fine.family)?;
+    let coarse_reference = ReferenceElement::shared(shape, coarse.order, coarse.family)?;
+    let basis = coarse_reference.basis();
+    let mut values = vec![0.0; basis.len()];
+    Ok(fine_reference
+        .nodes()
+        .points()
+        .iter()
+        .map(|&xi| {
+            basis.eval(xi, &mut values);
+            values
+                .iter()
+                .enumerate()
+                .filter(|(_, w)| w.abs() > ZERO_WEIGHT)
+                .map(|(j, &w)| (j as u16, w))
+                .collect()
+        })
+        .collect())
 }
 
 #[cfg(test)]
