@@ -123,8 +123,8 @@ pub struct CurveOptions {
     pub slide: Vec<String>,
     /// Move only the boundary nodes (no elastic solve).
     pub boundary_only: bool,
-    /// The cells the elastic solve covers: all (the default) or an active region around
-    /// the curved boundaries ([`SolveRegion`]).
+    /// The cells the elastic solve covers: an active region around the curved boundaries
+    /// (the default, [`SolveRegion::ACTIVE`]) or all.
     pub solve_region: SolveRegion,
     /// What the quality assessment samples.
     pub quality: QualityOptions,
@@ -156,7 +156,7 @@ impl CurveOptions {
             solver: SolverOptions::default(),
             slide: Vec::new(),
             boundary_only: false,
-            solve_region: SolveRegion::Whole,
+            solve_region: SolveRegion::ACTIVE,
             quality: QualityOptions::default(),
             certify: true,
             untangle: true,

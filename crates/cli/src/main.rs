@@ -133,9 +133,10 @@ struct MethodArgs {
     /// the boundary placement.
     #[arg(long)]
     boundary_only: bool,
-    /// Cells in the elastic solve: whole, or active (cells near curved boundaries, grown
-    /// until the displacement reaching the outermost ring is below 1e-3 of its size).
-    #[arg(long, default_value = "whole", value_name = "whole|active")]
+    /// Cells in the elastic solve: active (cells near curved boundaries, grown until the
+    /// displacement reaching the outermost ring is below CUTOFF = 1e-2 of its cells'
+    /// thickness; the rest keep straight high-order nodes), active=CUTOFF, or whole.
+    #[arg(long, default_value = "active", value_name = "active|active=CUTOFF|whole")]
     solve_region: SolveRegion,
     /// Skip the Bézier certification of every element's validity (det J > 0 everywhere).
     #[arg(long)]
