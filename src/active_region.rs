@@ -158,7 +158,12 @@ fn cell_thickness(mesh: &HighOrderMesh, cell: &HighOrderElement) -> f64 {
                 .kind
                 .faces()
                 .iter()
-                .map(|f| norm(cross(sub(corner(f[1]), corner(f[0])), sub(corner(f[2]), corner(f[0])))))
+                .map(|f| {
+                    norm(cross(
+                        sub(corner(f[1]), corner(f[0])),
+                        sub(corner(f[2]), corner(f[0])),
+                    ))
+                })
                 .fold(0.0, f64::max);
             six_volume / largest_twice_area
         }

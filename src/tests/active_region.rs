@@ -60,9 +60,7 @@ fn largest_difference(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
 fn held_back(region: &RegionSolution, bc: &BoundaryConditions, whole: &[[f64; 3]]) -> f64 {
     let length = |u: [f64; 3]| (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt();
     (0..whole.len())
-        .filter(|&m| {
-            region.displacement[m] == [0.0; 3] && !bc.prescribed.contains_key(&(m as u32))
-        })
+        .filter(|&m| region.displacement[m] == [0.0; 3] && !bc.prescribed.contains_key(&(m as u32)))
         .map(|m| length(whole[m]))
         .fold(0.0, f64::max)
 }
@@ -98,7 +96,10 @@ fn a_region_missing_the_cutoff_grows_and_one_missing_it_far_gives_way_to_the_who
     let (mesh, bc) = cube_with_a_bump(14, 0.002);
     let whole = elastic(&mesh, &bc, None).unwrap();
     let grown = solve_in_active_region(&mesh, &bc, None, 5e-3, elastic).unwrap();
-    assert!(grown.solves >= 2 && 2 * grown.cells < mesh.cells.len(), "{grown:?}");
+    assert!(
+        grown.solves >= 2 && 2 * grown.cells < mesh.cells.len(),
+        "{grown:?}"
+    );
     let error = largest_difference(&grown.displacement, &whole.displacement);
     assert!(error <= 1.5 * held_back(&grown, &bc, &whole.displacement));
     // Missing the cutoff by more than twice: straight to the whole mesh.

@@ -136,7 +136,11 @@ struct MethodArgs {
     /// Cells in the elastic solve: active (cells near curved boundaries, grown until the
     /// displacement reaching the outermost ring is below CUTOFF = 1e-2 of its cells'
     /// thickness; the rest keep straight high-order nodes), active=CUTOFF, or whole.
-    #[arg(long, default_value = "active", value_name = "active|active=CUTOFF|whole")]
+    #[arg(
+        long,
+        default_value = "active",
+        value_name = "active|active=CUTOFF|whole"
+    )]
     solve_region: SolveRegion,
     /// Skip the Bézier certification of every element's validity (det J > 0 everywhere).
     #[arg(long)]
