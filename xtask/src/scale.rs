@@ -8,6 +8,13 @@
 //! its plain projection (`setOrder`) and reports its own peak memory. The table ends with
 //! the slope of log(time) against log(elements) over the sizes that ran (1 = linear growth).
 //! A size hocurve refuses (its memory estimate exceeds this machine) is reported as such.
+//!
+//! Then the active-region check: the sphere of the first size factor (p = 3), a torus in a
+//! box meshed by Gmsh (p = 4) and the boundary-layer tetrahedra of `fixtures/cad` (p = 4)
+//! are curved with the default active region and with `--solve-region whole`; the check
+//! fails unless the active region's min Ĩ (the scaled Jacobian at the quadrature points,
+//! and the certified lower bound) is within 1 % of the whole solve's, with no invalid
+//! element.
 
 use std::process::Command;
 
@@ -106,6 +113,135 @@ pub fn scale(args: &[String]) -> Result<()> {
         rows.push(Row { factor, ours, gmsh });
     }
     print_table(&rows, order);
+
+    let torus = out.join("torus.msh");
+    run(
+        "Gmsh meshes a torus in a box",
+        Command::new(&python)
+            .arg(&script)
+            .args(["torus"])
+            .arg(&torus)
+            .arg("0.2"),
+    )?;
+    let torus_geometry = out.join("torus.json");
+    std::fs::write(
+        &torus_geometry,
+        r#"{"entities": [{"name": "torus", "kind": "torus", "center": [0, 0, 0],
+ "axis": [0, 0, 1], "major_radius": 2, "minor_radius": 0.5}]}"#,
+    )?;
+    let first = factors.first().copied().unwrap_or(FACTORS[0]);
+    let cases = [
+        (
+            format!("sphere, factor {first}"),
+            out.join(format!("sphere_{first}.msh")),
+            root().join("fixtures/sphere/sphere.json"),
+            3,
+        ),
+        ("torus".to_string(), torus, torus_geometry, 4),
+        (
+            "boundary layers".to_string(),
+            root().join("fixtures/cad/sphere_layers.msh"),
+            root().join("fixtures/cad/sphere_layers.json"),
+            4,
+        ),
+    ];
+    region_check(&hocurve, &out, &cases)
+}
+
+/// Curves each case with the default active region and with the whole mesh, prints both
+/// and fails unless the active region's min Ĩ is within 1 % of the whole solve's.
+fn region_check(
+    hocurve: &std::path::Path,
+    out: &std::path::Path,
+    cases: &[(String, std::path::PathBuf, std::path::PathBuf, usize)],
+) -> Result<()> {
+    let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    let curve = |name: &str,
+                 mesh: &std::path::Path,
+                 geometry: &std::path::Path,
+                 p: usize,
+                 region: &str|
+     -> Result<Value> {
+        let report = out.join(format!(
+            "region_{}_{region}.json",
+            name.replace([' ', ','], "_")
+        ));
+        let _ = std::fs::remove_file(&report);
+        run(
+            &format!("hocurve curve {name}, p = {p}, --solve-region {region}"),
+            Command::new(hocurve)
+                .arg("curve")
+                .arg(mesh)
+                .args([
+                    "--order",
+                    &p.to_string(),
+                    "--solve-region",
+                    region,
+                    "--geometry",
+                ])
+                .arg(geometry)
+                .arg("-o")
+                .arg(out.join("region.msh"))
+                .arg("--report")
+                .arg(&report),
+        )?;
+        Ok(serde_json::from_str(&std::fs::read_to_string(&report)?)?)
+    };
+    let mut rows = Vec::new();
+    for (name, mesh, geometry, p) in cases {
+        let whole = curve(name, mesh, geometry, *p, "whole")?;
+        let active = curve(name, mesh, geometry, *p, "active")?;
+        rows.push((name, *p, whole, active));
+    }
+    println!();
+    println!("active region (default) against the whole-mesh solve: min Ĩ at the quadrature points (and certified lower bound)");
+    println!(
+        "{:<22} {:>2} {:>7} {:>7} {:>6} | {:>15} {:>15} | {:>15} {:>15} | {:>7} {:>7}",
+        "case",
+        "p",
+        "tets",
+        "region",
+        "solves",
+        "Ĩ whole",
+        "Ĩ active",
+        "bound whole",
+        "bound active",
+        "t whole",
+        "t active"
+    );
+    let mut failures = Vec::new();
+    for (name, p, whole, active) in &rows {
+        let (iw, ia) = (
+            f(&whole["min_scaled_jacobian"]),
+            f(&active["min_scaled_jacobian"]),
+        );
+        let (bw, ba) = (
+            f(&whole["min_scaled_jacobian_lower_bound"]),
+            f(&active["min_scaled_jacobian_lower_bound"]),
+        );
+        println!(
+            "{:<22} {:>2} {:>7} {:>7} {:>6} | {:>15.6} {:>15.6} | {:>15.6} {:>15.6} | {:>7.2} {:>7.2}",
+            name,
+            p,
+            whole["elements"].as_u64().unwrap_or(0),
+            active["solve_cells"].as_u64().unwrap_or(0),
+            active["elastic_solves"].as_u64().unwrap_or(0),
+            iw,
+            ia,
+            bw,
+            ba,
+            f(&whole["timings"]["total"]),
+            f(&active["timings"]["total"]),
+        );
+        let within = |a: f64, w: f64| a >= w - 0.01 * w.abs();
+        if !(within(ia, iw) && within(ba, bw)) || active["invalid_elements"].as_u64() != Some(0) {
+            failures.push(name.as_str());
+        }
+    }
+    if !failures.is_empty() {
+        bail!("the active region's min Ĩ is not within 1 % of the whole solve's: {failures:?}");
+    }
+    println!("min Ĩ of the active region within 1 % of the whole solve's on every case (region = cells solved; the whole mesh where the region missed its cutoff)");
     Ok(())
 }
 
