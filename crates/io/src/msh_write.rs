@@ -23,8 +23,12 @@
 //! the file back gives bitwise the same values. Same input, same bytes.
 
 use std::collections::BTreeMap;
+use std::fmt::Write as _;
 use std::io::Write;
+use std::ops::Range;
 use std::path::Path;
+
+use rayon::prelude::*;
 
 use hocurve_mesh::{HighOrderElement, HighOrderMesh};
 use hocurve_nodes::Shape;
@@ -295,12 +299,11 @@ impl<'a> Plan<'a> {
         for (start, end) in runs {
             let ((dim, tag), _) = self.entities[self.node_entity[start]];
             writeln!(w, "{dim} {tag} 0 {}", end - start)?;
-            for i in start..end {
-                writeln!(w, "{}", i + 1)?;
-            }
-            for x in &mesh.nodes[start..end] {
-                writeln!(w, "{:?} {:?} {:?}", x[0], x[1], x[2])?;
-            }
+            write_lines(w, start..end, |i, t| writeln!(t, "{}", i + 1))?;
+            write_lines(w, start..end, |i, t| {
+                let x = mesh.nodes[i];
+                writeln!(t, "{:?} {:?} {:?}", x[0], x[1], x[2])
+            })?;
         }
         writeln!(w, "$EndNodes")?;
 
@@ -328,14 +331,15 @@ impl<'a> Plan<'a> {
             let (gmsh_type, perm) = &self.types[&shape];
             let entity = group.elements[start].entity;
             writeln!(w, "{} {entity} {gmsh_type} {}", group.dim, end - start)?;
-            for e in &group.elements[start..end] {
-                tag += 1;
-                write!(w, "{tag}")?;
+            let first_tag = tag + 1 - start;
+            write_lines(w, start..end, |i, t| {
+                write!(t, "{}", first_tag + i)?;
                 for &k in perm {
-                    write!(w, " {}", e.nodes[k] as usize + 1)?;
+                    write!(t, " {}", group.elements[i].nodes[k] as usize + 1)?;
                 }
-                writeln!(w)?;
-            }
+                writeln!(t)
+            })?;
+            tag += end - start;
         }
         writeln!(w, "$EndElements")?;
         Ok(())
@@ -358,18 +362,54 @@ impl<'a> Plan<'a> {
             for a in arrays {
                 writeln!(w, "${section}\n1\n\"{}\"\n1\n0\n3\n0", a.name)?;
                 writeln!(w, "{}\n{count}", a.components)?;
-                for (i, tuple) in a.values.chunks(a.components).enumerate() {
-                    write!(w, "{}", first_tag + i)?;
-                    for v in tuple {
-                        write!(w, " {v:?}")?;
+                let components = a.components;
+                write_lines(w, 0..a.values.len() / components, |i, t| {
+                    write!(t, "{}", first_tag + i)?;
+                    for v in &a.values[i * components..(i + 1) * components] {
+                        write!(t, " {v:?}")?;
                     }
-                    writeln!(w)?;
-                }
+                    writeln!(t)
+                })?;
                 writeln!(w, "$End{section}")?;
             }
         }
         Ok(())
     }
+}
+
+/// Writes the lines `line(i)` for `i` in `range`, formatted in parallel in blocks of
+/// consecutive lines and written in order: the bytes of a sequential loop (formatting
+/// floats is most of the cost of writing a large mesh).
+fn write_lines<W: Write>(
+    w: &mut W,
+    range: Range<usize>,
+    line: impl Fn(usize, &mut String) -> std::fmt::Result + Sync,
+) -> std::io::Result<()> {
+    const BLOCK: usize = 1 << 13;
+    // Blocks formatted at once: bounds the text held in memory.
+    const BATCH: usize = 64;
+    let blocks: Vec<Range<usize>> = range
+        .clone()
+        .step_by(BLOCK)
+        .map(|s| s..(s + BLOCK).min(range.end))
+        .collect();
+    for batch in blocks.chunks(BATCH) {
+        let texts: Vec<Result<String, std::fmt::Error>> = batch
+            .par_iter()
+            .map(|block| {
+                let mut text = String::with_capacity(block.len() * 24);
+                for i in block.clone() {
+                    line(i, &mut text)?;
+                }
+                Ok(text)
+            })
+            .collect();
+        for text in texts {
+            let text = text.map_err(|_| std::io::Error::other("formatting a mesh line failed"))?;
+            w.write_all(text.as_bytes())?;
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

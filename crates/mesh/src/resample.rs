@@ -1,7 +1,6 @@
 //! Nodal data carried along when a mesh is resampled to another node family.
 
 use std::collections::BTreeMap;
-use std::sync::Arc;
 
 use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
 
@@ -37,21 +36,25 @@ impl HighOrderMesh {
             return Ok(out);
         }
         let mut done = vec![false; n];
-        let mut bases: BTreeMap<Shape, (Arc<ReferenceElement>, Arc<ReferenceElement>)> =
-            BTreeMap::new();
-        let mut phi = Vec::new();
+        // Per shape, Φⱼ at every target node, row by row: the same for every cell.
+        let mut tables: BTreeMap<Shape, (usize, Vec<f64>)> = BTreeMap::new();
         let mut u = vec![0.0; components];
         for cell in &self.cells {
             let shape = cell.kind;
-            if let std::collections::btree_map::Entry::Vacant(slot) = bases.entry(shape) {
+            if let std::collections::btree_map::Entry::Vacant(slot) = tables.entry(shape) {
                 let from = ReferenceElement::shared(shape, self.order, self.family)?;
                 let to = ReferenceElement::shared(shape, self.order, family)?;
-                slot.insert((from, to));
+                let basis = from.basis();
+                let width = basis.len();
+                let targets = to.nodes().points();
+                let mut table = vec![0.0; targets.len() * width];
+                for (row, xi) in table.chunks_mut(width.max(1)).zip(targets) {
+                    basis.eval(*xi, row);
+                }
+                slot.insert((width, table));
             }
-            let (from, to) = &bases[&shape];
-            let (basis, targets) = (from.basis(), to.nodes().points());
-            phi.resize(basis.len(), 0.0);
-            for (k, xi) in targets.iter().enumerate() {
+            let (width, table) = &tables[&shape];
+            for (k, phi) in table.chunks(*width.max(&1)).enumerate() {
                 let Some(&id) = cell.nodes.get(k) else {
                     break;
                 };
@@ -59,7 +62,6 @@ impl HighOrderMesh {
                 if done[id] {
                     continue;
                 }
-                basis.eval(*xi, &mut phi);
                 u.iter_mut().for_each(|x| *x = 0.0);
                 for (p, &j) in phi.iter().zip(&cell.nodes) {
                     let at = j as usize * components;

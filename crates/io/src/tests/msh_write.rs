@@ -327,3 +327,23 @@ fn unsupported_data_is_refused_before_writing() {
     let err = crate::read_high_order_mesh(&dir.path().join("x.txt")).unwrap_err();
     assert!(matches!(err, IoError::UnknownInputFormat { .. }), "{err}");
 }
+
+#[test]
+fn lines_formatted_in_parallel_blocks_are_the_bytes_of_a_sequential_loop() {
+    // Several blocks and several batches of blocks, the last block partial.
+    let n = 64 * 8192 + 3 * 8192 + 17;
+    let value = |i: usize| (i as f64).sqrt() * 1e-3 - 0.5;
+    let mut parallel = Vec::new();
+    write_lines(&mut parallel, 5..n, |i, t| {
+        writeln!(t, "{} {:?}", i + 1, value(i))
+    })
+    .unwrap();
+    let mut sequential = Vec::new();
+    for i in 5..n {
+        writeln!(sequential, "{} {:?}", i + 1, value(i)).unwrap();
+    }
+    assert_eq!(parallel, sequential);
+    let mut empty = Vec::new();
+    write_lines(&mut empty, 3..3, |_, t| writeln!(t, "x")).unwrap();
+    assert!(empty.is_empty());
+}
