@@ -2,7 +2,11 @@
 //! estimate of the peak memory, so that an order the machine cannot hold is refused at once
 //! rather than after minutes of work.
 
-use hocurve_mesh::{LinearMesh, MeshError, Topology};
+use hocurve_mesh::{LinearMesh, MeshError};
+use rayon::slice::ParallelSliceMut;
+
+#[cfg(doc)]
+use hocurve_mesh::Topology;
 use hocurve_nodes::Shape;
 
 /// Bytes per unknown per node of an element, measured (release, 2 threads, peak resident
@@ -37,20 +41,53 @@ pub struct Estimate {
     pub peak_bytes: f64,
 }
 
-/// Counts the nodes of the order-`order` mesh of `linear` from its topology (without
+/// The distinct edges, triangular faces and quadrilateral faces of `linear`'s cells (faces
+/// only in 3D): each entity as its sorted vertex ids packed in one integer, sorted and
+/// deduplicated — the counts of [`Topology`] without its maps, several times faster.
+pub fn count_entities(linear: &LinearMesh) -> Result<[u64; 3], MeshError> {
+    let mut edges: Vec<u64> = Vec::new();
+    let mut triangles: Vec<u128> = Vec::new();
+    let mut quadrilaterals: Vec<u128> = Vec::new();
+    linear.validate()?;
+    for cell in &linear.cells {
+        let v = &cell.vertices;
+        for &[a, b] in cell.kind.edges() {
+            let (a, b) = (v[a].min(v[b]), v[a].max(v[b]));
+            edges.push(((a as u64) << 32) | b as u64);
+        }
+        if linear.dim == 3 {
+            for face in cell.kind.faces() {
+                let mut ids: Vec<u32> = face.iter().map(|&k| v[k]).collect();
+                ids.sort_unstable();
+                let key = ids.iter().fold(0u128, |key, &x| (key << 32) | x as u128);
+                if ids.len() == 4 {
+                    quadrilaterals.push(key);
+                } else {
+                    triangles.push(key);
+                }
+            }
+        }
+    }
+    fn distinct<T: Ord + Send>(mut keys: Vec<T>) -> u64 {
+        keys.par_sort_unstable();
+        keys.dedup();
+        keys.len() as u64
+    }
+    Ok([
+        distinct(edges),
+        distinct(triangles),
+        distinct(quadrilaterals),
+    ])
+}
+
+/// Counts the nodes of the order-`order` mesh of `linear` from its entities (without
 /// building it) and estimates the peak memory of curving it.
 pub fn estimate(linear: &LinearMesh, order: usize) -> Result<Estimate, MeshError> {
-    let topology = Topology::new(linear)?;
+    let [edges, triangles, quadrilaterals] = count_entities(linear)?;
     let mut nodes = linear.vertices.len() as u64
-        + topology.edges().len() as u64 * Shape::Line.num_interior_nodes(order) as u64;
-    for face in topology.faces() {
-        let shape = if face.len() == 4 {
-            Shape::Quad
-        } else {
-            Shape::Tri
-        };
-        nodes += shape.num_interior_nodes(order) as u64;
-    }
+        + edges * Shape::Line.num_interior_nodes(order) as u64
+        + triangles * Shape::Tri.num_interior_nodes(order) as u64
+        + quadrilaterals * Shape::Quad.num_interior_nodes(order) as u64;
     let mut largest = 0;
     for cell in &linear.cells {
         let shape = cell.kind;
@@ -117,5 +154,30 @@ mod tests {
         let built = HighOrderMesh::from_linear(&naca, 5, NodeFamily::Equispaced).unwrap();
         // The paper's count for its own mesh is V + E(p−1) + F(p−1)(p−2)/2; ours too.
         assert_eq!(estimate(&naca, 5).unwrap().nodes, built.nodes.len() as u64);
+    }
+
+    #[test]
+    fn node_counts_equal_those_of_the_built_mesh_on_mixed_and_quadrilateral_meshes() {
+        use hocurve_mesh::Shape;
+        use hocurve_testmeshes::{unit_cube, unit_square, Fill, Kuhn};
+        for (linear, order) in [
+            (unit_cube(3, Fill::Tet(Kuhn::Paired), 0.1), 3),
+            (unit_cube(2, Fill::HexPrism, 0.0), 4),
+            (unit_square(4, Shape::Tri, 0.1), 5),
+            (unit_square(3, Shape::Quad, 0.0), 2),
+        ] {
+            let built = HighOrderMesh::from_linear(&linear, order, NodeFamily::Fekete).unwrap();
+            let e = estimate(&linear, order).unwrap();
+            assert_eq!(e.nodes, built.nodes.len() as u64);
+            assert_eq!(e.unknowns, linear.dim as u64 * e.nodes);
+        }
+    }
+
+    #[test]
+    fn a_cell_naming_a_missing_vertex_is_an_error() {
+        use hocurve_testmeshes::{unit_cube, Fill, Kuhn};
+        let mut linear = unit_cube(1, Fill::Tet(Kuhn::Paired), 0.0);
+        linear.cells[0].vertices[2] = 99;
+        assert!(estimate(&linear, 2).is_err());
     }
 }
