@@ -228,8 +228,11 @@ impl Attempt {
             let vertices = self.mesh.layout().num_vertices();
             resampled.nodes[..vertices].copy_from_slice(&self.mesh.nodes[..vertices]);
             self.mesh = resampled;
-            self.straight =
-                HighOrderMesh::from_linear(linear, options.order, NodeFamily::Equispaced)?.nodes;
+            // The same cells as `linear`'s: its topology is reused, not rebuilt.
+            self.straight = self
+                .mesh
+                .straight_on(&linear.vertices, options.order, NodeFamily::Equispaced)?
+                .nodes;
         }
         if let (Some(geometry), Some(targets)) = (geometry, &self.targets) {
             self.max_geometry_distance = project_nodes_onto_geometry(

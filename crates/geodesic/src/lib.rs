@@ -26,6 +26,7 @@
 
 pub mod association;
 pub mod chart;
+pub mod closed_form;
 pub mod correction;
 mod curve_arc;
 pub mod feature;
@@ -35,6 +36,7 @@ pub mod placement;
 
 pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
 pub use chart::SurfaceChart;
+pub use closed_form::ClosedFormGeodesic;
 pub use path::GeodesicPath;
 pub use placement::{
     max_distance_from_geometry, place_boundary_nodes, place_boundary_nodes_with,

@@ -124,6 +124,19 @@ impl GeodesicPath {
         self.lengths.last().copied().unwrap_or(0.0)
     }
 
+    /// A parameter near the point at `fraction` ∈ [0, 1] of the length (interpolated
+    /// linearly between the polyline's parameters, not projected): a starting guess.
+    pub fn parameter_near(&self, fraction: f64) -> [f64; 2] {
+        let n = self.points.len();
+        if n < 2 {
+            return self.params.first().copied().unwrap_or([0.0; 2]);
+        }
+        let (k, t, _) =
+            chord_point_at_fraction(&self.points, &self.lengths, fraction.clamp(0.0, 1.0));
+        let (a, b) = (self.params[k], self.params[k + 1]);
+        [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])]
+    }
+
     /// The parameter and the point at `fraction` ∈ [0, 1] of the length from the start: the
     /// point of the polyline at that length, projected onto the surface (closest point, by
     /// Newton from the linearly interpolated parameter). The projection is exact on a plane

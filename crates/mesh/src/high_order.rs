@@ -335,6 +335,26 @@ impl HighOrderMesh {
     /// The orders of a p-multigrid hierarchy are built this way. Curved edges are not
     /// carried over: only the vertex positions are used.
     pub fn straight_of_order(&self, order: usize) -> Result<HighOrderMesh, MeshError> {
+        let vertices = &self.nodes[..self.layout.num_vertices.min(self.nodes.len())];
+        self.straight_on(vertices, order, self.family)
+    }
+
+    /// The straight-sided mesh of `order` and `family` on this mesh's cells and facets with
+    /// the vertex positions `vertices` (one per vertex of this mesh, e.g. the linear mesh's
+    /// before curving moved them), reusing this mesh's topology as
+    /// [`Self::straight_of_order`] does.
+    pub fn straight_on(
+        &self,
+        vertices: &[[f64; 3]],
+        order: usize,
+        family: NodeFamily,
+    ) -> Result<HighOrderMesh, MeshError> {
+        if vertices.len() != self.layout.num_vertices {
+            return Err(MeshError::VertexCount {
+                expected: self.layout.num_vertices,
+                found: vertices.len(),
+            });
+        }
         let linear_element = |e: &HighOrderElement| -> Result<crate::Element, MeshError> {
             let corners = e.kind.num_vertices();
             Ok(crate::Element {
@@ -345,7 +365,7 @@ impl HighOrderMesh {
         };
         let linear = LinearMesh {
             dim: self.dim,
-            vertices: self.nodes[..self.layout.num_vertices.min(self.nodes.len())].to_vec(),
+            vertices: vertices.to_vec(),
             cells: self
                 .cells
                 .iter()
@@ -364,7 +384,7 @@ impl HighOrderMesh {
         };
         linear.validate()?;
         // Same vertices and cells: the same topology, not rebuilt (seconds at 1 M cells).
-        Self::straight_sided_on(&linear, self.topology.clone(), order, self.family)
+        Self::straight_sided_on(&linear, self.topology.clone(), order, family)
     }
 
     /// The length of the shortest mesh edge, vertex to vertex (straight); `None` without

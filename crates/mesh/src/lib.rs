@@ -218,4 +218,12 @@ pub enum MeshError {
         /// Values given.
         found: usize,
     },
+    /// Vertex positions given for a mesh with a different number of vertices.
+    #[error("{found} vertex positions given for a mesh of {expected} vertices")]
+    VertexCount {
+        /// The mesh's vertices.
+        expected: usize,
+        /// Positions given.
+        found: usize,
+    },
 }

@@ -215,7 +215,7 @@ pub fn place_boundary_nodes_with(
                 continue;
             }
             let entity = edge_entities[&key].iter().copied().next();
-            if let (Some(EdgeCarrier::Surface { chart, path }), Some(entity)) =
+            if let (Some(EdgeCarrier::Surface { chart, path, .. }), Some(entity)) =
                 (carrier_of.remove(&key), entity)
             {
                 carrier_of.insert(

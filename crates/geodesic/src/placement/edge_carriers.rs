@@ -5,6 +5,7 @@ use hocurve_nurbs::inversion::closest_point_on_curve;
 use hocurve_nurbs::EntityGeometry;
 
 use crate::chart::{GeometryCharts, SurfaceChart};
+use crate::closed_form::ClosedFormGeodesic;
 use crate::correction::CorrectedEdge;
 use crate::curve_arc::CurveArc;
 use crate::feature::FeatureCurve;
@@ -17,10 +18,13 @@ use crate::{BoundaryAssociation, GeodesicError};
 pub(crate) enum EdgeCarrier<'a> {
     /// A boundary curve (2D) between two parameters, possibly across the seam of a closed curve.
     Curve(CurveArc<'a>),
-    /// An approximate geodesic on a surface (an edge inside one surface patch).
+    /// An approximate geodesic on a surface (an edge inside one surface patch); where the
+    /// surface's geodesics have a closed form, its points come from that (`exact`, with the
+    /// edge's end points) and the path serves the minimum-angle check only.
     Surface {
         chart: SurfaceChart<'a>,
         path: GeodesicPath,
+        exact: Option<(ClosedFormGeodesic, [[f64; 3]; 2])>,
     },
     /// The intersection of two or more surfaces (a feature edge, on a patch boundary).
     Feature(FeatureCurve<'a>),
@@ -72,7 +76,12 @@ pub(crate) fn edge_carrier<'a>(
                 entity.closest_point(xb).param,
             );
             let path = GeodesicPath::between(&chart, pa, pb, DEFAULT_LENGTH_TOLERANCE);
-            Ok(EdgeCarrier::Surface { chart, path })
+            let exact = entity
+                .analytic
+                .as_ref()
+                .and_then(ClosedFormGeodesic::of)
+                .map(|g| (g, [xa, xb]));
+            Ok(EdgeCarrier::Surface { chart, path, exact })
         }
     }
 }
@@ -83,7 +92,15 @@ impl EdgeCarrier<'_> {
     pub(crate) fn at(&self, fraction: f64) -> ([f64; 2], [f64; 3]) {
         match self {
             EdgeCarrier::Curve(arc) => ([0.0; 2], arc.at(fraction)),
-            EdgeCarrier::Surface { chart, path } => path.at_fraction(chart, fraction),
+            EdgeCarrier::Surface {
+                exact: Some((geodesic, [a, b])),
+                path,
+                ..
+            } => (
+                path.parameter_near(fraction),
+                geodesic.at_fraction(*a, *b, fraction),
+            ),
+            EdgeCarrier::Surface { chart, path, .. } => path.at_fraction(chart, fraction),
             EdgeCarrier::Feature(curve) => ([0.0; 2], curve.at(fraction)),
             EdgeCarrier::Corrected(edge) => edge.at(fraction),
         }

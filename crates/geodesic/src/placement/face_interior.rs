@@ -9,6 +9,7 @@ use hocurve_nurbs::vec3::{add, distance, scale, sub};
 use hocurve_nurbs::EntityGeometry;
 
 use crate::chart::GeometryCharts;
+use crate::closed_form::ClosedFormGeodesic;
 use crate::path::{GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
 use crate::GeodesicError;
 
@@ -73,6 +74,14 @@ pub(super) fn geodesic_point(
     fraction: f64,
 ) -> ([f64; 2], [f64; 3]) {
     let entity_geometry = &geometry.geometry.entities[entity];
+    if let Some(exact) = entity_geometry
+        .analytic
+        .as_ref()
+        .and_then(ClosedFormGeodesic::of)
+    {
+        // Parameters are guesses here: closed-form surfaces project without them.
+        return (from.0, exact.at_fraction(from.1, to.1, fraction));
+    }
     match (&entity_geometry.geometry, geometry.chart(entity)) {
         (EntityGeometry::Surface(_), Some(chart)) => {
             // Parameters of edge points may come from another entity's chart on feature

@@ -20,7 +20,7 @@ pub(crate) fn check_edge_angles(
     limit: f64,
 ) -> Result<Option<crate::correction::AngleCheck>, GeodesicError> {
     let key = [from.min(to), from.max(to)];
-    let Some(EdgeCarrier::Surface { chart, path }) = carriers.get(&key) else {
+    let Some(EdgeCarrier::Surface { chart, path, .. }) = carriers.get(&key) else {
         return Ok(None);
     };
     let reversed;
