@@ -16,7 +16,7 @@ use hocurve_quality::MeshQuality;
 
 use crate::active_region::{solve_in_active_region, solve_whole_mesh, SolveRegion};
 use crate::boundary_conditions::boundary_conditions;
-use crate::certification::{assess_certified, invalid_elements};
+use crate::certification::{affine_cells, assess_certified_with_affine, invalid_elements};
 use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, Step};
 use crate::report::{CurveReport, StepTimings};
 
@@ -338,7 +338,9 @@ pub(crate) fn curve_and_certify(
     let attempt = attempt.written(linear, options, geometry, timings)?;
     progress(Progress::Step(Step::Quality));
     let t = Instant::now();
-    let quality = assess_certified(&attempt.mesh, options)?;
+    // Cells the solve left straight are affine: measured from their constant det J.
+    let affine = affine_cells(&attempt.mesh, &attempt.straight);
+    let quality = assess_certified_with_affine(&attempt.mesh, options, Some(&affine))?;
     timings.quality += t.elapsed().as_secs_f64();
     Ok((attempt, quality))
 }

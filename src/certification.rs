@@ -1,8 +1,10 @@
 //! Certification of a curved mesh: the quality measures with the Bézier validity check
 //! where the options ask for it and the order supports it, and the cells found invalid.
 
-use hocurve_mesh::HighOrderMesh;
-use hocurve_quality::{assess, BezierOptions, MeshQuality, QualityError, QualityOptions, Validity};
+use hocurve_mesh::{HighOrderMesh, Shape};
+use hocurve_quality::{
+    assess, assess_with_affine, BezierOptions, MeshQuality, QualityError, QualityOptions, Validity,
+};
 
 use crate::pipeline::CurveOptions;
 
@@ -15,6 +17,20 @@ pub(crate) fn assess_certified(
     mesh: &HighOrderMesh,
     options: &CurveOptions,
 ) -> Result<MeshQuality, QualityError> {
+    assess_certified_with_affine(mesh, options, None)
+}
+
+/// [`assess_certified`], with the cells flagged in `affine` (straight-sided simplices,
+/// see [`affine_cells`]) measured from their constant det J.
+pub(crate) fn assess_certified_with_affine(
+    mesh: &HighOrderMesh,
+    options: &CurveOptions,
+    affine: Option<&[bool]>,
+) -> Result<MeshQuality, QualityError> {
+    let assess = |mesh: &HighOrderMesh, quality: &QualityOptions| match affine {
+        Some(flags) => assess_with_affine(mesh, quality, flags),
+        None => assess(mesh, quality),
+    };
     if !options.certify || options.quality.bezier.is_some() {
         return assess(mesh, &options.quality);
     }
@@ -26,6 +42,32 @@ pub(crate) fn assess_certified(
         Err(QualityError::UnsupportedBezierDegree { .. }) => assess(mesh, &options.quality),
         other => other,
     }
+}
+
+/// The cells of `mesh` that are triangles or tetrahedra with every node within rounding
+/// (1e-12 of the cell's longest edge) of its straight-sided position in `straight`: their
+/// map is affine (the cells the active region left alone).
+pub(crate) fn affine_cells(mesh: &HighOrderMesh, straight: &[[f64; 3]]) -> Vec<bool> {
+    use rayon::prelude::*;
+    mesh.cells
+        .par_iter()
+        .map(|cell| {
+            if !matches!(cell.kind, Shape::Tri | Shape::Tet) || straight.len() != mesh.nodes.len() {
+                return false;
+            }
+            let corner = |i: usize| straight[cell.nodes[i] as usize];
+            let mut longest = 0.0f64;
+            for &[a, b] in cell.kind.edges() {
+                let (x, y) = (corner(a), corner(b));
+                longest = longest.max((0..3).map(|k| (x[k] - y[k]).powi(2)).sum::<f64>().sqrt());
+            }
+            let tolerance = 1e-12 * longest;
+            cell.nodes.iter().all(|&n| {
+                let (x, y) = (mesh.nodes[n as usize], straight[n as usize]);
+                (0..3).all(|k| (x[k] - y[k]).abs() <= tolerance)
+            })
+        })
+        .collect()
 }
 
 /// Number of [`invalid_cells`].

@@ -300,12 +300,26 @@ pub(crate) fn samplers(
 /// elements, Ĩ ≤ 0 means inverted. Computed in parallel; each element's value is computed
 /// sequentially, so the result does not depend on the number of threads.
 pub fn scaled_jacobian(mesh: &HighOrderMesh, sampling: Sampling) -> Result<Vec<f64>, QualityError> {
+    scaled_jacobian_where(mesh, sampling, None)
+}
+
+/// [`scaled_jacobian`], with the cells flagged in `affine` (simplices whose nodes are the
+/// straight-sided ones) given Ĩ = ±1 from [`affine_determinant`] without sampling.
+pub(crate) fn scaled_jacobian_where(
+    mesh: &HighOrderMesh,
+    sampling: Sampling,
+    affine: Option<&[bool]>,
+) -> Result<Vec<f64>, QualityError> {
     let shapes = check_cells(mesh)?;
     let samplers = samplers(mesh, &shapes, sampling)?;
     Ok(mesh
         .cells
         .par_iter()
-        .map_init(JacobianWorkspace::default, |workspace, cell| {
+        .enumerate()
+        .map_init(JacobianWorkspace::default, |workspace, (c, cell)| {
+            if let Some(det) = affine_determinant(mesh, cell, affine, c) {
+                return scaled_ratio(det, det);
+            }
             let sampler = &samplers[&cell.kind]; // check_cells saw every shape
             let mut coords = std::mem::take(&mut workspace.coords);
             gather(mesh, cell, &mut coords);
@@ -314,6 +328,38 @@ pub fn scaled_jacobian(mesh: &HighOrderMesh, sampling: Sampling) -> Result<Vec<f
             value
         })
         .collect())
+}
+
+/// det J of a simplex cell flagged in `affine` (at index `c`), whose map is then affine:
+/// J = [x₁ − x₀, x₂ − x₀(, x₃ − x₀)] on hocurve's unit reference simplex, the same J as
+/// Σᵢ xᵢ ⊗ ∇φᵢ of its nodes. `None` for unflagged cells and other shapes.
+pub(crate) fn affine_determinant(
+    mesh: &HighOrderMesh,
+    cell: &HighOrderElement,
+    affine: Option<&[bool]>,
+    c: usize,
+) -> Option<f64> {
+    if !affine
+        .and_then(|flags| flags.get(c))
+        .copied()
+        .unwrap_or(false)
+    {
+        return None;
+    }
+    let dim = match cell.kind {
+        Shape::Tri => 2,
+        Shape::Tet => 3,
+        _ => return None,
+    };
+    let x0 = mesh.nodes[cell.nodes[0] as usize];
+    let mut j = [[0.0; 3]; 3];
+    for alpha in 0..dim {
+        let x = mesh.nodes[cell.nodes[alpha + 1] as usize];
+        for (row, (a, b)) in j.iter_mut().zip(x.iter().zip(&x0)) {
+            row[alpha] = a - b;
+        }
+    }
+    Some(hocurve_nodes::determinant(&j, dim))
 }
 
 /// det J of cell `element` at the given reference points (hocurve's reference elements), for

@@ -43,7 +43,7 @@ mod summary;
 mod test_meshes;
 mod validity;
 
-pub use assessment::{assess, MeshQuality, QualityOptions};
+pub use assessment::{assess, assess_with_affine, MeshQuality, QualityOptions};
 pub use bernstein::{
     bezier_check_supported, jacobian_degree, BernsteinSpace, MAX_DENSE_COEFFICIENTS,
     MAX_LINE_DEGREE,

@@ -37,7 +37,10 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::bezier_map::TensorJacobian;
-use crate::jacobian::{check_cells, gather, min_max, JacobianSampler, JacobianWorkspace};
+use crate::jacobian::{
+    affine_determinant, check_cells, gather, min_max, scaled_ratio, JacobianSampler,
+    JacobianWorkspace,
+};
 use crate::{BernsteinSpace, BernsteinSubdivision, QualityError};
 
 /// The verdict of the Bézier check on one element.
@@ -497,6 +500,16 @@ pub fn check_validity(
     mesh: &HighOrderMesh,
     options: &BezierOptions,
 ) -> Result<Vec<ValidityCheck>, QualityError> {
+    check_validity_where(mesh, options, None)
+}
+
+/// [`check_validity`], with the cells flagged in `affine` (simplices whose nodes are the
+/// straight-sided ones) decided by the sign of their constant det J.
+pub(crate) fn check_validity_where(
+    mesh: &HighOrderMesh,
+    options: &BezierOptions,
+    affine: Option<&[bool]>,
+) -> Result<Vec<ValidityCheck>, QualityError> {
     let shapes = check_cells(mesh)?;
     let checkers: BTreeMap<Shape, JacobianBezier> = shapes
         .iter()
@@ -506,7 +519,23 @@ pub fn check_validity(
     Ok(mesh
         .cells
         .par_iter()
-        .map_init(BezierWorkspace::default, |ws, cell| {
+        .enumerate()
+        .map_init(BezierWorkspace::default, |ws, (c, cell)| {
+            if let Some(det) = affine_determinant(mesh, cell, affine, c) {
+                let ratio = scaled_ratio(det, det);
+                return ValidityCheck {
+                    validity: if det > 0.0 {
+                        Validity::Valid
+                    } else {
+                        Validity::Invalid
+                    },
+                    min_jacobian_lower_bound: det,
+                    max_jacobian_upper_bound: det,
+                    scaled_jacobian_lower_bound: ratio,
+                    scaled_jacobian_upper_bound: ratio,
+                    regions: 1,
+                };
+            }
             let checker = &checkers[&cell.kind];
             let mut coords = std::mem::take(&mut ws.coords);
             gather(mesh, cell, &mut coords);
