@@ -65,18 +65,8 @@ def torus_in_a_box(h):
     assert faces, "no torus face after the cut"
     gmsh.model.addPhysicalGroup(2, faces, name="torus")
     gmsh.model.addPhysicalGroup(3, [out[0][1]], name="fluid")
-    f = gmsh.model.mesh.field
-    f.add("Distance", 1)
-    f.setNumbers(1, "SurfacesList", faces)
-    f.setNumber(1, "Sampling", 60)
-    f.add("MathEval", 2)
-    f.setString(2, "F", "Min(4 * %g, %g + 0.1 * F1)" % (h, h))
-    f.setAsBackgroundMesh(2)
-    gmsh.option.setNumber("Mesh.MeshSizeExtendFromBoundary", 0)
-    gmsh.option.setNumber("Mesh.MeshSizeFromPoints", 0)
+    make_fixtures.graded_from(faces, h_wall=h, growth=0.1, h_far=4 * h, sampling=60)
     gmsh.option.setNumber("Mesh.MeshSizeFromCurvature", 0)
-    gmsh.option.setNumber("Mesh.Algorithm", 6)
-    gmsh.option.setNumber("Mesh.Algorithm3D", 1)
     gmsh.model.mesh.generate(3)
 
 
