@@ -276,7 +276,7 @@ pub(crate) fn solve_in_active_region(
         let solution = solve(&sub, &sub_bc, sub_stiffening.as_deref())?;
         solves += 1;
         cells_solved += region.len();
-        // The displacement reaching the outermost ring, relative to its cells' sizes.
+        // The displacement reaching the outermost ring, relative to its cells' thickness.
         let mut reach = 0.0f64;
         for (i, &c) in region.iter().enumerate() {
             if ring[c] != rings {
