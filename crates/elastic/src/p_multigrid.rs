@@ -130,7 +130,9 @@ pub(crate) struct PMultigrid<'a> {
 pub(crate) struct LevelMesh<'m> {
     pub mesh: std::borrow::Cow<'m, HighOrderMesh>,
     pub constraints: std::borrow::Cow<'m, Constraints>,
-    pub cells_of_node: std::borrow::Cow<'m, Adjacency>,
+    /// The cells holding each node, where the caller has them (assembled levels); the
+    /// matrix transfers use them, the cell-by-cell ones do not.
+    pub cells_of_node: Option<std::borrow::Cow<'m, Adjacency>>,
 }
 
 impl<'a> PMultigrid<'a> {
@@ -177,7 +179,7 @@ impl<'a> PMultigrid<'a> {
         let finest = LevelMesh {
             mesh: std::borrow::Cow::Borrowed(mesh),
             constraints: std::borrow::Cow::Borrowed(constraints),
-            cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
+            cells_of_node: Some(std::borrow::Cow::Borrowed(cells_of_node)),
         };
         let smoother = {
             let start = Instant::now();
@@ -206,7 +208,6 @@ impl<'a> PMultigrid<'a> {
         a: &'a MatrixFreeStiffness,
         constraints: &Constraints,
         mesh: &HighOrderMesh,
-        cells_of_node: &Adjacency,
         material: &Material,
         stiffening: Option<&[f64]>,
         options: &SolverOptions,
@@ -215,7 +216,7 @@ impl<'a> PMultigrid<'a> {
         let finest = LevelMesh {
             mesh: std::borrow::Cow::Borrowed(mesh),
             constraints: std::borrow::Cow::Borrowed(constraints),
-            cells_of_node: std::borrow::Cow::Borrowed(cells_of_node),
+            cells_of_node: None,
         };
         let smoother = matrix_free_smoother(a, &finest, options.smoother_degree);
         let smoother_seconds = start.elapsed().as_secs_f64();
@@ -279,13 +280,12 @@ impl<'a> PMultigrid<'a> {
                 break;
             }
             if matrix_free && q >= 2 {
-                let cells_of_node = node_cells(&coarse);
                 let operator =
                     MatrixFreeStiffness::new(&coarse, material, stiffening, &coarse_constraints)?;
                 let level = LevelMesh {
                     mesh: std::borrow::Cow::Owned(coarse),
                     constraints: std::borrow::Cow::Owned(coarse_constraints),
-                    cells_of_node: std::borrow::Cow::Owned(cells_of_node),
+                    cells_of_node: None,
                 };
                 let begin = Instant::now();
                 let smoother = matrix_free_smoother(&operator, &level, degree);
@@ -306,7 +306,7 @@ impl<'a> PMultigrid<'a> {
             let level = LevelMesh {
                 mesh: std::borrow::Cow::Owned(coarse),
                 constraints: std::borrow::Cow::Owned(coarse_constraints),
-                cells_of_node: std::borrow::Cow::Owned(assembled.cells_of_node),
+                cells_of_node: Some(std::borrow::Cow::Owned(assembled.cells_of_node)),
             };
             let aggregated = q == 1 && condensed.rows() > options.coarse_direct_limit;
             if aggregated {
@@ -479,6 +479,14 @@ pub(crate) fn prolongation(
 ) -> Result<StiffnessMatrix, ElasticError> {
     let (fm, cm) = (&*fine.mesh, &*coarse.mesh);
     let (fc, cc) = (&*fine.constraints, &*coarse.constraints);
+    let built;
+    let cells_of_node = match &fine.cells_of_node {
+        Some(cells) => &**cells,
+        None => {
+            built = node_cells(fm);
+            &built
+        }
+    };
     // Per shape: the order-q basis at each order-p reference node, nonzero weights only.
     let mut weights: BTreeMap<Shape, Vec<Vec<(u16, f64)>>> = BTreeMap::new();
     for cell in &fm.cells {
@@ -494,7 +502,7 @@ pub(crate) fn prolongation(
         .into_par_iter()
         .flat_map_iter(|n| {
             let mut entries: Vec<(usize, f64)> = Vec::new();
-            if let Some(&c) = fine.cells_of_node.row(n).first() {
+            if let Some(&c) = cells_of_node.row(n).first() {
                 let (fine_cell, coarse_cell) = (&fm.cells[c as usize], &cm.cells[c as usize]);
                 let table = weights.get(&fine_cell.kind);
                 let local = fine_cell.nodes.iter().position(|&x| x as usize == n);

@@ -12,7 +12,6 @@ use crate::matrix_free::MatrixFreeStiffness;
 use crate::p_multigrid::PMultigrid;
 use crate::pcg::{pcg_with_progress, LinearOperator};
 use crate::sparse::Cholesky;
-use crate::sparsity::{node_cells, Adjacency};
 use crate::vector_ops::norm;
 use crate::{BoundaryConditions, ElasticError, Material};
 
@@ -160,8 +159,8 @@ pub enum SolveProgress {
 
 /// The condensed system: assembled, or applied cell by cell.
 enum System {
-    Assembled(Assembled),
-    MatrixFree(Box<MatrixFreeStiffness>, Adjacency),
+    Assembled(Box<Assembled>),
+    MatrixFree(Box<MatrixFreeStiffness>),
 }
 
 /// The largest acceptable true relative residual.
@@ -267,18 +266,17 @@ fn solve(
     // b = Tᵀ (F − K u_p), and the matrix Tᵀ K T straight from the elements, or the
     // operator applying it cell by cell.
     let (system, mut rhs) = if matrix_free {
-        let cells_of_node = node_cells(mesh);
         let operator = MatrixFreeStiffness::new(mesh, material, stiffening, &constraints)?;
         let rhs = operator.prescribed_load(&constraints);
         progress(SolveProgress::Assembly { fraction: 1.0 });
-        (System::MatrixFree(Box::new(operator), cells_of_node), rhs)
+        (System::MatrixFree(Box::new(operator)), rhs)
     } else {
         let mut assembled =
             assemble_condensed(mesh, material, stiffening, &constraints, &mut |fraction| {
                 progress(SolveProgress::Assembly { fraction })
             })?;
         let rhs = std::mem::take(&mut assembled.rhs);
-        (System::Assembled(assembled), rhs)
+        (System::Assembled(Box::new(assembled)), rhs)
     };
     if let Some(f) = body_force {
         let load = constraints.restrict(&assemble_load(mesh, f)?);
@@ -330,12 +328,13 @@ fn solve(
             iteration_time = start.elapsed().as_secs_f64();
         };
         match system {
-            System::Assembled(Assembled {
-                matrix,
-                graph,
-                cells_of_node,
-                ..
-            }) => {
+            System::Assembled(assembled) => {
+                let Assembled {
+                    matrix,
+                    graph,
+                    cells_of_node,
+                    ..
+                } = *assembled;
                 if solver == SolverKind::Direct {
                     x.copy_from_slice(&rhs);
                     Cholesky::new(&matrix, "condensed system")?.solve_in_place(&mut x);
@@ -367,12 +366,11 @@ fn solve(
                     relative(&*exact, &x)
                 }
             }
-            System::MatrixFree(operator, cells_of_node) => {
+            System::MatrixFree(operator) => {
                 let mut preconditioner = PMultigrid::matrix_free(
                     &operator,
                     &constraints,
                     mesh,
-                    &cells_of_node,
                     material,
                     stiffening,
                     options,

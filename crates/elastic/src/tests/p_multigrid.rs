@@ -118,7 +118,7 @@ pub(crate) fn levels_of(
     let coarse = mesh.straight_of_order(q).unwrap();
     let coarse_constraints = carried_constraints(&mesh, &constraints, &coarse);
     let level = |mesh: HighOrderMesh, constraints: Constraints| LevelMesh {
-        cells_of_node: std::borrow::Cow::Owned(crate::sparsity::node_cells(&mesh)),
+        cells_of_node: Some(std::borrow::Cow::Owned(crate::sparsity::node_cells(&mesh))),
         mesh: std::borrow::Cow::Owned(mesh),
         constraints: std::borrow::Cow::Owned(constraints),
     };
@@ -169,12 +169,14 @@ fn prolongation_interpolates_polynomials_of_the_coarse_order_exactly() {
         };
         let sample = |m: &HighOrderMesh| -> Vec<f64> { m.nodes.iter().flat_map(field).collect() };
         let fine_level = LevelMesh {
-            cells_of_node: std::borrow::Cow::Owned(crate::sparsity::node_cells(&mesh)),
+            cells_of_node: Some(std::borrow::Cow::Owned(crate::sparsity::node_cells(&mesh))),
             mesh: std::borrow::Cow::Borrowed(&mesh),
             constraints: std::borrow::Cow::Borrowed(&free),
         };
         let coarse_level = LevelMesh {
-            cells_of_node: std::borrow::Cow::Owned(crate::sparsity::node_cells(&coarse)),
+            cells_of_node: Some(std::borrow::Cow::Owned(crate::sparsity::node_cells(
+                &coarse,
+            ))),
             mesh: std::borrow::Cow::Borrowed(&coarse),
             constraints: std::borrow::Cow::Borrowed(&coarse_free),
         };
