@@ -394,22 +394,7 @@ impl MatrixFreeStiffness {
         let CellScratch { x, y, modes, .. } = scratch;
         // U_d[α m + k] = Σ_b R_α[k][b] X_d[b], LANES of (α, k) at a time.
         modes.resize(D * rows_padded, 0.0);
-        let rt = &self.reference.transposed;
-        for i0 in (0..rows_padded).step_by(LANES) {
-            let mut acc = [[0.0f64; LANES]; D];
-            for b in 0..n {
-                let column = &rt[b * rows_padded + i0..b * rows_padded + i0 + LANES];
-                for d in 0..D {
-                    let xd = x[d * n + b];
-                    for k in 0..LANES {
-                        acc[d][k] += xd * column[k];
-                    }
-                }
-            }
-            for d in 0..D {
-                modes[d * rows_padded + i0..d * rows_padded + i0 + LANES].copy_from_slice(&acc[d]);
-            }
-        }
+        lane_products::<D>(&self.reference.transposed, x, n, n, modes, rows_padded);
         // Per mode: ∇u[d][c] = ∂u_d/∂x_c, the stress, and back to reference directions.
         for k in 0..m {
             let mut grad = [[0.0; 3]; 3];
@@ -438,22 +423,14 @@ impl MatrixFreeStiffness {
         }
         // Y_d[b] = Σ_(α, k) R_α[k][b] V_d[α m + k], LANES of b at a time.
         y.resize(D * n_padded, 0.0);
-        let r = &self.reference.factors;
-        for b0 in (0..n_padded).step_by(LANES) {
-            let mut acc = [[0.0f64; LANES]; D];
-            for i in 0..rows {
-                let row = &r[i * n_padded + b0..i * n_padded + b0 + LANES];
-                for d in 0..D {
-                    let v = modes[d * rows_padded + i];
-                    for k in 0..LANES {
-                        acc[d][k] += v * row[k];
-                    }
-                }
-            }
-            for d in 0..D {
-                y[d * n_padded + b0..d * n_padded + b0 + LANES].copy_from_slice(&acc[d]);
-            }
-        }
+        lane_products::<D>(
+            &self.reference.factors,
+            modes,
+            rows_padded,
+            rows,
+            y,
+            n_padded,
+        );
     }
 
     /// Block Jacobi over the reduced dof ranges `cuts` (each a whole number of nodes): the
@@ -569,6 +546,36 @@ struct CellScratch {
     x: Vec<f64>,
     y: Vec<f64>,
     modes: Vec<f64>,
+}
+
+/// out_d[j] = Σ_(i < inner) input_d[i] · matrix[i][j] for every component d < D, the
+/// rows of `matrix` and of `out` being `width` long (a multiple of [`LANES`]), `input`'s
+/// `input_stride`: both of the cell action's products (R X and Rᵀ V). LANES outputs per
+/// component accumulate in registers, the sums in the order of i.
+#[inline(always)]
+fn lane_products<const D: usize>(
+    matrix: &[f64],
+    input: &[f64],
+    input_stride: usize,
+    inner: usize,
+    out: &mut [f64],
+    width: usize,
+) {
+    for j0 in (0..width).step_by(LANES) {
+        let mut acc = [[0.0f64; LANES]; D];
+        for i in 0..inner {
+            let row = &matrix[i * width + j0..i * width + j0 + LANES];
+            for d in 0..D {
+                let v = input[d * input_stride + i];
+                for k in 0..LANES {
+                    acc[d][k] += v * row[k];
+                }
+            }
+        }
+        for d in 0..D {
+            out[d * width + j0..d * width + j0 + LANES].copy_from_slice(&acc[d]);
+        }
+    }
 }
 
 #[cfg(test)]
