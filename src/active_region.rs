@@ -172,19 +172,39 @@ fn cell_thickness(mesh: &HighOrderMesh, cell: &HighOrderElement) -> f64 {
     shortest_edge.min(altitude)
 }
 
-/// The solve on every cell, after `solves` on smaller regions.
+/// The solve `solve(mesh, boundary conditions, per-cell stiffening, initial guess)` of
+/// [`solve_in_active_region`] and [`solve_whole_mesh`].
+pub(crate) trait RegionSolve:
+    FnMut(
+    &HighOrderMesh,
+    &BoundaryConditions,
+    Option<&[f64]>,
+    Option<&[[f64; 3]]>,
+) -> Result<ElasticSolution, CurveError>
+{
+}
+
+impl<F> RegionSolve for F where
+    F: FnMut(
+        &HighOrderMesh,
+        &BoundaryConditions,
+        Option<&[f64]>,
+        Option<&[[f64; 3]]>,
+    ) -> Result<ElasticSolution, CurveError>
+{
+}
+
+/// The solve on every cell, after `solves` on smaller regions, CG started from `initial`
+/// (a displacement of every node) when given.
 pub(crate) fn solve_whole_mesh(
     mesh: &HighOrderMesh,
     bc: &BoundaryConditions,
     stiffening: Option<&[f64]>,
+    initial: Option<&[[f64; 3]]>,
     solves: usize,
-    solve: &mut impl FnMut(
-        &HighOrderMesh,
-        &BoundaryConditions,
-        Option<&[f64]>,
-    ) -> Result<ElasticSolution, CurveError>,
+    solve: &mut impl RegionSolve,
 ) -> Result<RegionSolution, CurveError> {
-    let solution = solve(mesh, bc, stiffening)?;
+    let solution = solve(mesh, bc, stiffening, initial)?;
     Ok(RegionSolution {
         displacement: solution.displacement.clone(),
         solution,
@@ -196,16 +216,15 @@ pub(crate) fn solve_whole_mesh(
 /// Solves for the displacement with `solve` (mesh, boundary conditions, per-cell
 /// stiffening) on the smallest region of rings around the moved nodes of `bc` that
 /// meets `cutoff` (see the module documentation), holding the region's outer nodes fixed.
+/// Each try starts CG from the last one's displacement (the first from `initial`, a
+/// displacement of every node, when given).
 pub(crate) fn solve_in_active_region(
     mesh: &HighOrderMesh,
     bc: &BoundaryConditions,
     stiffening: Option<&[f64]>,
     cutoff: f64,
-    mut solve: impl FnMut(
-        &HighOrderMesh,
-        &BoundaryConditions,
-        Option<&[f64]>,
-    ) -> Result<ElasticSolution, CurveError>,
+    initial: Option<&[[f64; 3]]>,
+    mut solve: impl RegionSolve,
 ) -> Result<RegionSolution, CurveError> {
     let n = mesh.nodes.len();
     let mut moved = vec![false; n];
@@ -218,7 +237,7 @@ pub(crate) fn solve_in_active_region(
     let deepest = ring.iter().filter(|&&r| r != usize::MAX).max().copied();
     let Some(deepest) = deepest else {
         // Nothing moves (or only slides): the whole solve is as cheap as any.
-        return solve_whole_mesh(mesh, bc, stiffening, 0, &mut solve);
+        return solve_whole_mesh(mesh, bc, stiffening, initial, 0, &mut solve);
     };
     // Cells within each number of rings.
     let mut within = vec![0usize; deepest + 1];
@@ -230,6 +249,8 @@ pub(crate) fn solve_in_active_region(
     }
     let mut rings = FIRST_RINGS;
     let mut solves = 0;
+    // The displacement of every node the next solve starts from.
+    let mut start: Option<Vec<[f64; 3]>> = initial.map(<[_]>::to_vec);
     let mut cells_solved = 0;
     loop {
         let region: Vec<usize> = (0..mesh.cells.len())
@@ -241,7 +262,7 @@ pub(crate) fn solve_in_active_region(
             || 2 * region.len() > mesh.cells.len()
             || cells_solved + region.len() > mesh.cells.len()
         {
-            return solve_whole_mesh(mesh, bc, stiffening, solves, &mut solve);
+            return solve_whole_mesh(mesh, bc, stiffening, start.as_deref(), solves, &mut solve);
         }
         let mut fixed = vec![false; n];
         for (c, cell) in mesh.cells.iter().enumerate() {
@@ -273,7 +294,15 @@ pub(crate) fn solve_in_active_region(
         }
         let sub_stiffening: Option<Vec<f64>> =
             stiffening.map(|k| region.iter().map(|&c| k[c]).collect());
-        let solution = solve(&sub, &sub_bc, sub_stiffening.as_deref())?;
+        let sub_start: Option<Vec<[f64; 3]>> = start
+            .as_ref()
+            .map(|u| source.iter().map(|&m| u[m as usize]).collect());
+        let solution = solve(
+            &sub,
+            &sub_bc,
+            sub_stiffening.as_deref(),
+            sub_start.as_deref(),
+        )?;
         solves += 1;
         cells_solved += region.len();
         // The displacement reaching the outermost ring, relative to its cells' thickness.
@@ -289,11 +318,11 @@ pub(crate) fn solve_in_active_region(
                 reach = reach.max(length / size);
             }
         }
+        let mut displacement = vec![[0.0; 3]; n];
+        for (s, &m) in source.iter().enumerate() {
+            displacement[m as usize] = solution.displacement[s];
+        }
         if reach <= cutoff {
-            let mut displacement = vec![[0.0; 3]; n];
-            for (s, &m) in source.iter().enumerate() {
-                displacement[m as usize] = solution.displacement[s];
-            }
             return Ok(RegionSolution {
                 displacement,
                 solution,
@@ -305,8 +334,16 @@ pub(crate) fn solve_in_active_region(
         // per ring on the sphere-in-box meshes, and not at all inside boundary layers): a
         // region missing the cutoff by more than twice would grow past half the mesh.
         if reach > 2.0 * cutoff {
-            return solve_whole_mesh(mesh, bc, stiffening, solves, &mut solve);
+            return solve_whole_mesh(
+                mesh,
+                bc,
+                stiffening,
+                Some(&displacement),
+                solves,
+                &mut solve,
+            );
         }
+        start = Some(displacement);
         // Grow by at least a quarter more cells.
         let target = region.len() + region.len().div_ceil(4);
         rings = (rings + 1..=deepest)

@@ -6,8 +6,8 @@
 use std::time::Instant;
 
 use hocurve_elastic::{
-    solve_displacement_stiffened, solve_displacement_with_progress, BoundaryConditions,
-    ElasticSolution, SolverKind, SolverOptions,
+    solve_displacement_from, solve_displacement_stiffened, solve_displacement_with_progress,
+    BoundaryConditions, ElasticSolution, SolverKind, SolverOptions,
 };
 use hocurve_geodesic::{place_boundary_nodes_with, project_nodes_onto_geometry, PlacementOptions};
 use hocurve_mesh::{HighOrderMesh, LinearMesh};
@@ -49,10 +49,12 @@ pub(crate) enum Boundary<'a> {
         association: &'a hocurve_geodesic::BoundaryAssociation,
         placement: &'a PlacementOptions,
     },
-    /// Placed already (by an earlier attempt); the solid stiffened cell by cell.
+    /// Placed already (by an earlier attempt); the solid stiffened cell by cell, CG started
+    /// from `initial` (the earlier attempt's [`Attempt::solved_displacement`]) unless empty.
     Stiffened {
         targets: &'a hocurve_geodesic::BoundaryTargets,
         stiffening: &'a [f64],
+        initial: &'a [[f64; 3]],
     },
 }
 
@@ -77,6 +79,10 @@ pub(crate) struct Attempt {
     pub(crate) displacement_error_bound: Option<f64>,
     /// The straight-sided positions of `mesh`'s nodes.
     pub(crate) straight: Vec<[f64; 3]>,
+    /// The elastic solve's displacement of every node in the options' node family (as
+    /// solved, before the mesh is written equispaced): where a re-solve starts. Empty
+    /// without a solve, or once dropped.
+    pub(crate) solved_displacement: Vec<[f64; 3]>,
 }
 
 impl Attempt {
@@ -92,6 +98,7 @@ impl Attempt {
             solves: 0,
             displacement_error_bound: None,
             straight: straight.nodes.clone(),
+            solved_displacement: Vec::new(),
         }
     }
 
@@ -104,7 +111,7 @@ impl Attempt {
         progress: &mut dyn FnMut(Progress),
         timings: &mut StepTimings,
     ) -> Result<Self, CurveError> {
-        let (targets, stiffening) = match boundary {
+        let (targets, stiffening, initial) = match boundary {
             Boundary::Place {
                 geometry,
                 association,
@@ -115,12 +122,17 @@ impl Attempt {
                 let targets =
                     place_boundary_nodes_with(straight, geometry.model, association, placement)?;
                 timings.boundary_nodes += t.elapsed().as_secs_f64();
-                (targets, None)
+                (targets, None, None)
             }
             Boundary::Stiffened {
                 targets,
                 stiffening,
-            } => (targets.clone(), Some(stiffening)),
+                initial,
+            } => (
+                targets.clone(),
+                Some(stiffening),
+                (initial.len() == straight.nodes.len()).then_some(initial),
+            ),
         };
         let mut mesh = straight.clone();
         let mut attempt = Attempt::straight(straight);
@@ -132,19 +144,29 @@ impl Attempt {
             let mut last_bound = None;
             let mut solve_on = |part: &HighOrderMesh,
                                 bc: &BoundaryConditions,
-                                stiffening: Option<&[f64]>|
+                                stiffening: Option<&[f64]>,
+                                initial: Option<&[[f64; 3]]>|
              -> Result<ElasticSolution, CurveError> {
                 let solver = solver_options(&options.solver, part);
                 last_bound = solver.displacement_tolerance;
-                let solution = match stiffening {
-                    None => solve_displacement_with_progress(
+                let solution = match (stiffening, initial) {
+                    (_, Some(initial)) => solve_displacement_from(
+                        part,
+                        &options.material,
+                        stiffening,
+                        bc,
+                        initial,
+                        &solver,
+                        &mut report,
+                    )?,
+                    (None, None) => solve_displacement_with_progress(
                         part,
                         &options.material,
                         bc,
                         &solver,
                         &mut report,
                     )?,
-                    Some(stiffening) => solve_displacement_stiffened(
+                    (Some(stiffening), None) => solve_displacement_stiffened(
                         part,
                         &options.material,
                         stiffening,
@@ -170,9 +192,11 @@ impl Attempt {
                 Ok(solution)
             };
             let region = match options.solve_region {
-                SolveRegion::Whole => solve_whole_mesh(&mesh, &bc, stiffening, 0, &mut solve_on)?,
+                SolveRegion::Whole => {
+                    solve_whole_mesh(&mesh, &bc, stiffening, initial, 0, &mut solve_on)?
+                }
                 SolveRegion::Active { cutoff } => {
-                    solve_in_active_region(&mesh, &bc, stiffening, cutoff, solve_on)?
+                    solve_in_active_region(&mesh, &bc, stiffening, cutoff, initial, solve_on)?
                 }
             };
             attempt.solve_cells = region.cells;
@@ -183,6 +207,7 @@ impl Attempt {
                     x[d] += u[d];
                 }
             }
+            attempt.solved_displacement = region.displacement;
             let solver = match solution.solver_used {
                 SolverKind::Direct => "direct",
                 SolverKind::Cg => "cg",

@@ -331,6 +331,7 @@ pub fn curve_mesh(
             let boundary = Boundary::Stiffened {
                 targets: &targets,
                 stiffening: &stiffening,
+                initial: &attempt.solved_displacement,
             };
             // All of the stiffened curving (its solve and certification) is repair time.
             let t = Instant::now();

@@ -70,9 +70,9 @@ pub use boundary::{boundary_nodes, BoundaryConditions};
 pub use error_norm::displacement_l2_error;
 pub use material::Material;
 pub use solve::{
-    solve_displacement, solve_displacement_stiffened, solve_displacement_with_load,
-    solve_displacement_with_progress, ElasticSolution, SolveProgress, SolverKind, SolverOptions,
-    Timings,
+    solve_displacement, solve_displacement_from, solve_displacement_stiffened,
+    solve_displacement_with_load, solve_displacement_with_progress, ElasticSolution, SolveProgress,
+    SolverKind, SolverOptions, Timings,
 };
 
 use hocurve_mesh::MeshError;
@@ -161,6 +161,12 @@ pub enum ElasticError {
         residual: f64,
         /// The limit that was not met.
         limit: f64,
+    },
+    /// An initial guess that is not one finite displacement per node.
+    #[error("invalid initial displacement: {reason}")]
+    InvalidInitialGuess {
+        /// What is wrong.
+        reason: String,
     },
     /// A body force value is NaN or infinite.
     #[error("the body force is not finite at a quadrature point of cell {cell}")]

@@ -188,7 +188,16 @@ pub fn solve_displacement_with_load(
     body_force: Option<&BodyForce<'_>>,
     options: &SolverOptions,
 ) -> Result<ElasticSolution, ElasticError> {
-    solve(mesh, material, None, bc, body_force, options, &mut |_| {})
+    solve(
+        mesh,
+        material,
+        None,
+        bc,
+        body_force,
+        None,
+        options,
+        &mut |_| {},
+    )
 }
 
 /// [`solve_displacement`], reporting the assembly's and the solve's progress to
@@ -200,7 +209,7 @@ pub fn solve_displacement_with_progress(
     options: &SolverOptions,
     progress: &mut dyn FnMut(SolveProgress),
 ) -> Result<ElasticSolution, ElasticError> {
-    solve(mesh, material, None, bc, None, options, progress)
+    solve(mesh, material, None, bc, None, None, options, progress)
 }
 
 /// [`solve_displacement_with_progress`] with cell c's Young's modulus multiplied by
@@ -221,6 +230,34 @@ pub fn solve_displacement_stiffened(
         Some(stiffening),
         bc,
         None,
+        None,
+        options,
+        progress,
+    )
+}
+
+/// [`solve_displacement_with_progress`] (stiffened cell by cell when `stiffening` is
+/// given, as in [`solve_displacement_stiffened`]) with CG started from `initial`, a
+/// displacement of every node close to the solution — e.g. the solution of a nearby problem
+/// (a smaller region, other stiffening): CG then needs fewer iterations to reach the same
+/// accuracy. Its prescribed components are ignored (the boundary conditions set them) and
+/// its normal components on sliding nodes are dropped. The direct solver ignores it.
+pub fn solve_displacement_from(
+    mesh: &HighOrderMesh,
+    material: &Material,
+    stiffening: Option<&[f64]>,
+    bc: &BoundaryConditions,
+    initial: &[[f64; 3]],
+    options: &SolverOptions,
+    progress: &mut dyn FnMut(SolveProgress),
+) -> Result<ElasticSolution, ElasticError> {
+    solve(
+        mesh,
+        material,
+        stiffening,
+        bc,
+        None,
+        Some(initial),
         options,
         progress,
     )
@@ -232,11 +269,31 @@ fn solve(
     stiffening: Option<&[f64]>,
     bc: &BoundaryConditions,
     body_force: Option<&BodyForce<'_>>,
+    initial: Option<&[[f64; 3]]>,
     options: &SolverOptions,
     progress: &mut dyn FnMut(SolveProgress),
 ) -> Result<ElasticSolution, ElasticError> {
     material.validate()?;
     bc.validate(mesh.nodes.len(), mesh.dim)?;
+    if let Some(initial) = initial {
+        if initial.len() != mesh.nodes.len() {
+            return Err(ElasticError::InvalidInitialGuess {
+                reason: format!(
+                    "{} displacements for {} nodes",
+                    initial.len(),
+                    mesh.nodes.len()
+                ),
+            });
+        }
+        if let Some(n) = initial
+            .iter()
+            .position(|u| u.iter().any(|v| !v.is_finite()))
+        {
+            return Err(ElasticError::InvalidInitialGuess {
+                reason: format!("node {n}'s displacement is not finite"),
+            });
+        }
+    }
     if bc.prescribed.is_empty() && bc.sliding.is_empty() {
         return Err(ElasticError::NoDirichlet);
     }
@@ -285,7 +342,15 @@ fn solve(
     let assembly_time = start.elapsed().as_secs_f64();
 
     let start = Instant::now();
-    let mut x = vec![0.0; dofs];
+    // The free components of the initial guess: y_n = Q_n u_n (u = T y + u_p, and u_p
+    // vanishes on the nodes that keep free directions).
+    let mut x = match (initial, solver) {
+        (Some(initial), SolverKind::Cg) => {
+            let full: Vec<f64> = initial.iter().flat_map(|u| u[..dim].to_vec()).collect();
+            constraints.restrict(&full)
+        }
+        _ => vec![0.0; dofs],
+    };
     let mut iterations = 0;
     let mut by_displacement = false;
     let (mut coarse_setup, mut smoother_setup, mut iteration_time) = (0.0, 0.0, 0.0);

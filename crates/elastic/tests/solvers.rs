@@ -2,9 +2,9 @@
 //! sliding walls, thread-count independence and error cases.
 
 use hocurve_elastic::{
-    assemble_stiffness, boundary_nodes, solve_displacement, solve_displacement_with_load,
-    solve_displacement_with_progress, BoundaryConditions, ElasticError, ElasticSolution, Material,
-    SolveProgress, SolverKind, SolverOptions,
+    assemble_stiffness, boundary_nodes, solve_displacement, solve_displacement_from,
+    solve_displacement_with_load, solve_displacement_with_progress, BoundaryConditions,
+    ElasticError, ElasticSolution, Material, SolveProgress, SolverKind, SolverOptions,
 };
 use hocurve_mesh::{HighOrderMesh, Shape};
 use hocurve_nodes::NodeFamily;
@@ -426,6 +426,79 @@ fn cg_stopped_on_the_displacement_tolerance_is_that_close_to_the_solution() {
             error <= bound,
             "bound {bound:e}: error {error:.3e} after {} iterations",
             early.iterations
+        );
+    }
+}
+
+#[test]
+fn cg_started_near_the_solution_reaches_it_in_fewer_iterations() {
+    let mesh = high_order(
+        &unit_cube(4, Fill::Tet(Kuhn::Paired), 0.2),
+        3,
+        NodeFamily::Fekete,
+    );
+    let bc = clamped_and_pushed(&mesh);
+    let options = SolverOptions {
+        kind: SolverKind::Cg,
+        ..Default::default()
+    };
+    let material = Material::default();
+    let cold = solve_displacement(&mesh, &material, &bc, &options).unwrap();
+    // A nearby problem's solution: this one's, off by 1e-3 of itself, with the prescribed
+    // values wrong too (the boundary conditions override them).
+    let nearby: Vec<[f64; 3]> = cold
+        .displacement
+        .iter()
+        .enumerate()
+        .map(|(n, u)| u.map(|v| v * (1.0 + 1e-3 * ((n % 7) as f64 - 3.0))))
+        .collect();
+    let warm = solve_displacement_from(&mesh, &material, None, &bc, &nearby, &options, &mut |_| {})
+        .unwrap();
+    println!(
+        "{} iterations cold, {} warm",
+        cold.iterations, warm.iterations
+    );
+    assert!(warm.iterations < cold.iterations);
+    assert!(warm.relative_residual <= 1e-10);
+    let scale = cold
+        .displacement
+        .iter()
+        .flatten()
+        .fold(0.0f64, |m, v| m.max(v.abs()));
+    let diff = cold
+        .displacement
+        .iter()
+        .zip(&warm.displacement)
+        .flat_map(|(a, b)| (0..3).map(move |d| (a[d] - b[d]).abs()))
+        .fold(0.0f64, f64::max);
+    assert!(diff <= 1e-9 * scale, "{diff:e}");
+    for (&n, u) in &bc.prescribed {
+        assert_eq!(warm.displacement[n as usize], *u);
+    }
+    // Started from the solution itself: no iteration beyond the check.
+    let exact = solve_displacement_from(
+        &mesh,
+        &material,
+        None,
+        &bc,
+        &cold.displacement,
+        &options,
+        &mut |_| {},
+    )
+    .unwrap();
+    assert!(exact.iterations <= 1, "{}", exact.iterations);
+
+    // Not one finite displacement per node: an error, not a guess.
+    for bad in [vec![[0.0; 3]; 3], {
+        let mut u = nearby.clone();
+        u[5][1] = f64::NAN;
+        u
+    }] {
+        let result =
+            solve_displacement_from(&mesh, &material, None, &bc, &bad, &options, &mut |_| {});
+        assert!(
+            matches!(result, Err(ElasticError::InvalidInitialGuess { .. })),
+            "{result:?}"
         );
     }
 }
