@@ -120,6 +120,12 @@ impl BernsteinSpace {
         })
     }
 
+    /// The exponents of every basis polynomial, in coefficient order (the barycentric
+    /// groups of [`Lattice::coordinates`], zero-padded).
+    pub(crate) fn exponents(&self) -> &[[u8; 6]] {
+        &self.lattice.exponents
+    }
+
     /// The shape.
     pub fn shape(&self) -> Shape {
         self.lattice.shape

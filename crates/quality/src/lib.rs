@@ -33,6 +33,7 @@ mod assessment;
 mod bernstein;
 mod bernstein_subdivision;
 mod bezier_map;
+mod bezier_simplex;
 mod error;
 mod jacobian;
 mod plot;

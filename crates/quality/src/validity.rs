@@ -37,6 +37,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::bezier_map::TensorJacobian;
+use crate::bezier_simplex::SimplexJacobian;
 use crate::jacobian::{
     affine_determinant, check_cells, gather, min_max, scaled_ratio, JacobianSampler,
     JacobianWorkspace,
@@ -232,6 +233,9 @@ pub struct JacobianBezier {
     /// Exact det J coefficients from the map's control points (quadrilaterals,
     /// hexahedra), whose margin does not carry the conversion's exponential norm.
     tensor: Option<TensorJacobian>,
+    /// Exact det J coefficients of triangles and tetrahedra, tried first: most elements
+    /// are certified by them alone, without sampling det J and converting.
+    simplex: Option<SimplexJacobian>,
     root: JacobianSampler,
     /// The shared reference element, whose basis samples sub-elements.
     element: Arc<ReferenceElement>,
@@ -261,6 +265,7 @@ impl JacobianBezier {
         let element = ReferenceElement::shared(shape, order, family)?;
         Ok(JacobianBezier {
             tensor: TensorJacobian::new(shape, order, family)?,
+            simplex: SimplexJacobian::new(shape, order, family, &space)?,
             subdivision: space.subdivision(),
             space,
             root,
@@ -328,6 +333,16 @@ impl JacobianBezier {
             spare,
             ..
         } = ws;
+        if let Some(simplex) = &self.simplex {
+            // Certified by the exact coefficients of the whole element: done. Otherwise
+            // the sampled check below decides (and refines).
+            let (c, margin) = simplex.coefficients(coords);
+            let (cmin, cmax) = min_max(&c);
+            if cmin > margin && cmax.is_finite() {
+                let corners: Vec<f64> = simplex.vertices().iter().map(|&v| c[v]).collect();
+                return self.verdict((false, false), (cmin, cmax), min_max(&corners), margin, 1);
+            }
+        }
         let root = self.root.determinants_with(coords, jacobian);
         let (sample_min, sample_max) = min_max(root);
         let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));

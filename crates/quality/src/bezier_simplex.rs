@@ -1,0 +1,333 @@
+//! Bernstein coefficients of det J of triangles and tetrahedra computed from the Bézier
+//! control points of the element map by exact Bernstein arithmetic (Johnen, Remacle &
+//! Geuzaine, JCP 233 (2013)), the simplex counterpart of [`crate::bezier_map`].
+//!
+//! Sampling det J at the n = C(3(p − 1) + 3, 3) lattice points and converting through the
+//! dense inverse costs ~ n² per element (220² at p = 4), most of the certification's time.
+//! Here the map's control points come from its nodes (one (p+1)(p+2)(p+3)/6-square
+//! matrix per coordinate), the partial derivatives are coefficient differences,
+//!
+//! ∂/∂ξ_a Σ_α c_α B_α^d = d Σ_{|β| = d − 1} (c_{β + e_a} − c_{β + e_0}) B_β^{d − 1}
+//!
+//! (barycentric λ_0 = 1 − Σ ξ, λ_a = ξ_a), and products follow
+//!
+//! B_α^a B_β^b = [Π_i C(α_i + β_i, α_i) / C(a + b, a)] B_{α+β}^{a+b},
+//!
+//! whose weights are non-negative and sum to one over the pairs meeting at α + β, so a
+//! forward error bound is carried along and becomes the certification margin.
+
+use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
+use nalgebra::DMatrix;
+
+use crate::{BernsteinSpace, QualityError};
+
+/// A Bernstein polynomial of total degree `degree` on the simplex (coefficients in
+/// [`simplex_lattice`] order) and a bound on the absolute error of every coefficient.
+#[derive(Debug, Clone)]
+struct Bounded {
+    c: Vec<f64>,
+    error: f64,
+}
+
+impl Bounded {
+    fn max_abs(&self) -> f64 {
+        self.c.iter().fold(0.0, |m, v| m.max(v.abs()))
+    }
+}
+
+/// The multi-indices (α_1, α_2, α_3) of total degree ≤ … of the simplex lattice of
+/// degree `d` in `dim` variables, in the order of [`crate::BernsteinSpace`]: the last
+/// variable outermost, α_0 = d − Σ α_i implied.
+fn simplex_lattice(dim: usize, d: usize) -> Vec<[usize; 3]> {
+    let mut out = Vec::new();
+    let top = if dim == 3 { d } else { 0 };
+    for k in 0..=top {
+        for j in 0..=d - k {
+            for i in 0..=d - j - k {
+                out.push([i, j, k]);
+            }
+        }
+    }
+    out
+}
+
+/// Position of each multi-index of [`simplex_lattice`]`(dim, d)`: index (i, j, k) at
+/// i + (d + 1)(j + (d + 1) k).
+fn lattice_positions(dim: usize, d: usize) -> Vec<u32> {
+    let side = d + 1;
+    let mut at = vec![u32::MAX; side * side * side];
+    for (n, [i, j, k]) in simplex_lattice(dim, d).into_iter().enumerate() {
+        at[i + side * (j + side * k)] = n as u32;
+    }
+    at
+}
+
+/// The product of degree-a and degree-b polynomials: (index in f, index in g, index of
+/// the product, weight) for every pair.
+#[derive(Debug, Clone)]
+struct ProductTable {
+    terms: Vec<(u32, u32, u32, f64)>,
+    len: usize,
+    /// Largest number of pairs meeting at one output coefficient.
+    most_terms: usize,
+}
+
+impl ProductTable {
+    fn new(dim: usize, a: usize, b: usize, binomial: &[Vec<f64>]) -> Self {
+        let (fa, fb) = (simplex_lattice(dim, a), simplex_lattice(dim, b));
+        let out = lattice_positions(dim, a + b);
+        let side = a + b + 1;
+        let mut count = vec![0usize; simplex_lattice(dim, a + b).len()];
+        let mut terms = Vec::with_capacity(fa.len() * fb.len());
+        for (i, alpha) in fa.iter().enumerate() {
+            let alpha0 = a - alpha.iter().sum::<usize>();
+            for (j, beta) in fb.iter().enumerate() {
+                let beta0 = b - beta.iter().sum::<usize>();
+                let gamma = [alpha[0] + beta[0], alpha[1] + beta[1], alpha[2] + beta[2]];
+                let mut w = binomial[alpha0 + beta0][alpha0] / binomial[a + b][a];
+                for k in 0..3 {
+                    w *= binomial[gamma[k]][alpha[k]];
+                }
+                let o = out[gamma[0] + side * (gamma[1] + side * gamma[2])];
+                count[o as usize] += 1;
+                terms.push((i as u32, j as u32, o, w));
+            }
+        }
+        ProductTable {
+            terms,
+            len: count.len(),
+            most_terms: count.into_iter().max().unwrap_or(0),
+        }
+    }
+
+    fn product(&self, f: &Bounded, g: &Bounded) -> Bounded {
+        let mut c = vec![0.0; self.len];
+        for &(i, j, o, w) in &self.terms {
+            c[o as usize] += w * f.c[i as usize] * g.c[j as usize];
+        }
+        let (mf, mg) = (f.max_abs(), g.max_abs());
+        Bounded {
+            c,
+            error: f.error * mg
+                + g.error * mf
+                + f.error * g.error
+                + (self.most_terms as f64 + 6.0) * f64::EPSILON * mf * mg,
+        }
+    }
+}
+
+/// The precomputed data of order-p triangles or tetrahedra with one node family.
+#[derive(Debug, Clone)]
+pub(crate) struct SimplexJacobian {
+    dim: usize,
+    order: usize,
+    /// Row-major: the map's Bézier control values (degree-p lattice order) from its nodal
+    /// values (canonical order).
+    to_bezier: Vec<f64>,
+    /// ‖to_bezier‖∞: the amplification of rounding in the conversion.
+    conversion_norm: f64,
+    /// For each axis a, for each degree-(p − 1) index β: the degree-p indices of β + e_a
+    /// and of β + e_0.
+    derivative: Vec<Vec<(u32, u32)>>,
+    /// (p − 1) × (p − 1) → 2(p − 1); in 3D also (p − 1) × 2(p − 1) → 3(p − 1).
+    square: ProductTable,
+    cube: Option<ProductTable>,
+    /// The positions of det J's vertex coefficients (its values at the vertices).
+    vertices: Vec<usize>,
+}
+
+impl SimplexJacobian {
+    /// None for other shapes, p < 1, or when `space` (det J's) does not order its
+    /// coefficients as [`simplex_lattice`] does.
+    pub(crate) fn new(
+        shape: Shape,
+        order: usize,
+        family: NodeFamily,
+        space: &BernsteinSpace,
+    ) -> Result<Option<Self>, QualityError> {
+        let dim = match shape {
+            Shape::Tri => 2,
+            Shape::Tet => 3,
+            _ => return Ok(None),
+        };
+        if order == 0 {
+            return Ok(None);
+        }
+        let p = order;
+        let det_degree = dim * (p - 1);
+        let det_lattice = simplex_lattice(dim, det_degree);
+        let same_order = space.len() == det_lattice.len()
+            && space
+                .exponents()
+                .iter()
+                .zip(&det_lattice)
+                .all(|(e, m)| (0..dim).all(|k| e[k + 1] as usize == m[k]));
+        if !same_order {
+            return Ok(None);
+        }
+        let binomial: Vec<Vec<f64>> = (0..=det_degree.max(p))
+            .map(|n| {
+                let mut row = vec![1.0; n + 1];
+                for k in 1..n {
+                    row[k] = (1..=k)
+                        .fold(1.0, |c, j| c * (n + 1 - j) as f64 / j as f64)
+                        .round();
+                }
+                row
+            })
+            .collect();
+        let element = ReferenceElement::shared(shape, order, family)?;
+        let points = element.nodes().points();
+        let control = simplex_lattice(dim, p);
+        if points.len() != control.len() {
+            return Ok(None);
+        }
+        // V_{nα} = B_α^p(ξ_n); the control values are V⁻¹ · nodal values.
+        let basis = |xi: &[f64; 3], alpha: &[usize; 3]| {
+            let lambda = [
+                1.0 - xi[..dim].iter().sum::<f64>(),
+                xi[0],
+                xi[1],
+                if dim == 3 { xi[2] } else { 0.0 },
+            ];
+            let alpha0 = p - alpha.iter().sum::<usize>();
+            let mut v = lambda[0].powi(alpha0 as i32);
+            let mut rest = p;
+            let mut weight = 1.0;
+            // Multinomial p! / (α_0! α_1! α_2! α_3!) as a product of binomials.
+            for (k, &a) in [alpha0, alpha[0], alpha[1], alpha[2]].iter().enumerate() {
+                weight *= binomial[rest][a];
+                rest -= a;
+                if k > 0 {
+                    v *= lambda[k].powi(a as i32);
+                }
+            }
+            weight * v
+        };
+        let n = control.len();
+        let v = DMatrix::from_fn(n, n, |i, j| basis(&points[i], &control[j]));
+        let Some(inverse) = v.try_inverse() else {
+            return Ok(None);
+        };
+        let to_bezier: Vec<f64> = (0..n * n).map(|k| inverse[(k / n, k % n)]).collect();
+        let conversion_norm = to_bezier
+            .chunks(n)
+            .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        let at = lattice_positions(dim, p);
+        let side = p + 1;
+        let index = |m: [usize; 3]| at[m[0] + side * (m[1] + side * m[2])];
+        let derivative = (0..dim)
+            .map(|a| {
+                simplex_lattice(dim, p - 1)
+                    .into_iter()
+                    .map(|beta| {
+                        let mut up = beta;
+                        up[a] += 1;
+                        (index(up), index(beta))
+                    })
+                    .collect()
+            })
+            .collect();
+        let square = ProductTable::new(dim, p - 1, p - 1, &binomial);
+        let cube = (dim == 3).then(|| ProductTable::new(dim, p - 1, 2 * (p - 1), &binomial));
+        let det_at = lattice_positions(dim, det_degree);
+        let dside = det_degree + 1;
+        let mut vertices = vec![det_at[0] as usize];
+        for a in 0..dim {
+            let mut m = [0; 3];
+            m[a] = det_degree;
+            vertices.push(det_at[m[0] + dside * (m[1] + dside * m[2])] as usize);
+        }
+        Ok(Some(SimplexJacobian {
+            dim,
+            order,
+            to_bezier,
+            conversion_norm,
+            derivative,
+            square,
+            cube,
+            vertices,
+        }))
+    }
+
+    /// The positions of det J's vertex coefficients (its exact values at the vertices).
+    pub(crate) fn vertices(&self) -> &[usize] {
+        &self.vertices
+    }
+
+    /// The Bernstein coefficients of det J (total degree d(p − 1), in
+    /// [`crate::BernsteinSpace`] order) of the element with node coordinates `coords`
+    /// (canonical order, relative to a nearby point), and a bound on their absolute
+    /// rounding error.
+    pub(crate) fn coefficients(&self, coords: &[[f64; 3]]) -> (Vec<f64>, f64) {
+        let (dim, p) = (self.dim, self.order);
+        let n = coords.len();
+        let largest = coords
+            .iter()
+            .flat_map(|x| x[..dim].iter())
+            .fold(0.0_f64, |m, v| m.max(v.abs()));
+        let conversion_error = self.conversion_norm * (n + 8) as f64 * f64::EPSILON * largest;
+        // ∂x_d/∂ξ_a for every (d, a).
+        let mut partials: Vec<Vec<Bounded>> = Vec::with_capacity(dim);
+        for d in 0..dim {
+            let control: Vec<f64> = self
+                .to_bezier
+                .chunks(n)
+                .map(|row| row.iter().zip(coords).map(|(m, x)| m * x[d]).sum())
+                .collect();
+            let max_control = control.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            partials.push(
+                self.derivative
+                    .iter()
+                    .map(|pairs| Bounded {
+                        c: pairs
+                            .iter()
+                            .map(|&(up, base)| {
+                                p as f64 * (control[up as usize] - control[base as usize])
+                            })
+                            .collect(),
+                        error: p as f64
+                            * (2.0 * conversion_error + 2.0 * f64::EPSILON * max_control),
+                    })
+                    .collect(),
+            );
+        }
+        let det = if dim == 2 {
+            let a = self.square.product(&partials[0][0], &partials[1][1]);
+            let b = self.square.product(&partials[0][1], &partials[1][0]);
+            difference(&a, &b)
+        } else {
+            let cube = self.cube.as_ref().expect("3D tables");
+            let minor = |a: usize, b: usize| {
+                let one = self.square.product(&partials[1][a], &partials[2][b]);
+                let two = self.square.product(&partials[1][b], &partials[2][a]);
+                difference(&one, &two)
+            };
+            let t0 = cube.product(&partials[0][0], &minor(1, 2));
+            let t1 = cube.product(&partials[0][1], &minor(0, 2));
+            let t2 = cube.product(&partials[0][2], &minor(0, 1));
+            let sum = difference(&t0, &t1);
+            let mut total = sum.clone();
+            for (out, v) in total.c.iter_mut().zip(&t2.c) {
+                *out += v;
+            }
+            total.error =
+                sum.error + t2.error + 2.0 * f64::EPSILON * (sum.max_abs() + t2.max_abs());
+            total
+        };
+        (det.c, det.error)
+    }
+}
+
+/// f − g (same degree), with its error bound.
+fn difference(f: &Bounded, g: &Bounded) -> Bounded {
+    Bounded {
+        c: f.c.iter().zip(&g.c).map(|(a, b)| a - b).collect(),
+        error: f.error + g.error + f64::EPSILON * (f.max_abs() + g.max_abs()),
+    }
+}
+
+#[cfg(test)]
+#[path = "tests/bezier_simplex.rs"]
+mod tests;
