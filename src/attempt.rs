@@ -254,10 +254,11 @@ impl Attempt {
             resampled.nodes[..vertices].copy_from_slice(&self.mesh.nodes[..vertices]);
             self.mesh = resampled;
             // The same cells as `linear`'s: its topology is reused, not rebuilt.
-            self.straight = self
-                .mesh
-                .straight_on(&linear.vertices, options.order, NodeFamily::Equispaced)?
-                .nodes;
+            self.straight = self.mesh.straight_positions_on(
+                &linear.vertices,
+                options.order,
+                NodeFamily::Equispaced,
+            )?;
         }
         if let (Some(geometry), Some(targets)) = (geometry, &self.targets) {
             self.max_geometry_distance = project_nodes_onto_geometry(

@@ -263,6 +263,7 @@ pub fn solve_displacement_from(
     )
 }
 
+#[allow(clippy::too_many_arguments)]
 fn solve(
     mesh: &HighOrderMesh,
     material: &Material,

@@ -13,6 +13,7 @@ use std::collections::{BTreeMap, HashMap};
 use std::sync::Arc;
 
 use hocurve_nodes::{NodeEntity, NodeFamily, ReferenceElement, Shape};
+use rayon::prelude::*;
 
 use crate::topology::face_key;
 use crate::{LinearMesh, MeshError, PhysicalGroup, Topology};
@@ -143,7 +144,6 @@ impl HighOrderMesh {
     ) -> Result<Self, MeshError> {
         family.check_order(order)?;
         let p = order;
-        let line = family.interior_nodes(Shape::Line, p);
 
         // Node numbering and counts.
         let num_vertices = mesh.vertices.len();
@@ -171,98 +171,106 @@ impl HighOrderMesh {
             cell_first_node,
         };
 
-        // Positions: each shared entity's nodes computed once, in its canonical frame.
-        let mut nodes = Vec::with_capacity(next);
-        nodes.extend_from_slice(&mesh.vertices);
-        for &[a, b] in &topology.edges {
-            let corners = [mesh.vertices[a as usize], mesh.vertices[b as usize]];
-            for (t, _) in &line {
-                nodes.push(straight_map(Shape::Line, &corners, *t));
-            }
-        }
-        let tri_face = family.interior_nodes(Shape::Tri, p);
-        let quad_face = family.interior_nodes(Shape::Quad, p);
-        for face in topology.faces.rows() {
-            let corners: Vec<[f64; 3]> = face.iter().map(|&v| mesh.vertices[v as usize]).collect();
-            let shape = Shape::face_shape(face.len());
-            let set = if face.len() == 3 {
-                &tri_face
-            } else {
-                &quad_face
-            };
-            for (xi, _) in set {
-                nodes.push(straight_map(shape, &corners, *xi));
-            }
-        }
         let mut references: BTreeMap<Shape, Arc<ReferenceElement>> = BTreeMap::new();
-        for cell in &mesh.cells {
-            let shape = cell.kind;
-            let reference = match references.entry(shape) {
-                Entry::Occupied(known) => known.into_mut(),
-                Entry::Vacant(slot) => slot.insert(ReferenceElement::shared(shape, p, family)?),
-            }
-            .nodes();
-            let corners: Vec<[f64; 3]> = cell
-                .vertices
-                .iter()
-                .map(|&v| mesh.vertices[v as usize])
-                .collect();
-            for (xi, entity) in reference.points().iter().zip(reference.entities()) {
-                if let NodeEntity::Interior(_) = entity {
-                    nodes.push(straight_map(shape, &corners, *xi));
-                }
+        for shape in mesh.cells.iter().chain(&mesh.facets).map(|c| c.kind) {
+            if let Entry::Vacant(slot) = references.entry(shape) {
+                slot.insert(ReferenceElement::shared(shape, p, family)?);
             }
         }
+        let corner_ids: Vec<(Shape, &[u32])> = mesh
+            .cells
+            .iter()
+            .map(|c| (c.kind, c.vertices.as_slice()))
+            .collect();
+        let nodes = straight_positions(
+            &mesh.vertices,
+            &topology,
+            &corner_ids,
+            p,
+            family,
+            &references,
+        );
+        drop(corner_ids);
         debug_assert_eq!(nodes.len(), next);
 
         // Connectivity in canonical local order.
-        let mut faces = FaceFrames::new(p, family);
-        let mut cells = Vec::with_capacity(mesh.cells.len());
-        for (c, cell) in mesh.cells.iter().enumerate() {
-            let shape = cell.kind;
-            let reference = references[&shape].nodes();
-            let cell_edges = topology.cell_edges.row(c);
-            let cell_faces = topology.cell_faces.row(c);
-            let v = &cell.vertices;
-            let mut ids = Vec::with_capacity(reference.len());
-            for entity in reference.entities() {
-                let id = match *entity {
-                    NodeEntity::Vertex(i) => v[i] as usize,
-                    NodeEntity::Edge { edge, index } => {
-                        let [a, b] = shape.edges()[edge];
-                        edge_node(&layout, p, cell_edges[edge] as usize, v[a] > v[b], index)
-                    }
-                    NodeEntity::Face { face, index } => {
-                        let f = cell_faces[face] as usize;
-                        let local: Vec<u32> = shape.faces()[face].iter().map(|&i| v[i]).collect();
-                        let map = faces.interior_map(&local, topology.faces.row(f));
-                        layout.face_first_node[f] as usize + map[index]
-                    }
-                    NodeEntity::Interior(index) => layout.cell_first_node[c] as usize + index,
-                };
-                ids.push(id as u32);
-            }
-            cells.push(HighOrderElement {
-                kind: cell.kind,
-                nodes: ids,
-                entity: cell.entity,
-            });
-        }
+        let faces = FaceFrames::new(p, family);
+        let cells = mesh
+            .cells
+            .par_iter()
+            .enumerate()
+            .map(|(c, cell)| {
+                let shape = cell.kind;
+                let reference = references[&shape].nodes();
+                let cell_edges = topology.cell_edges.row(c);
+                let cell_faces = topology.cell_faces.row(c);
+                let v = &cell.vertices;
+                let mut ids = Vec::with_capacity(reference.len());
+                for entity in reference.entities() {
+                    let id = match *entity {
+                        NodeEntity::Vertex(i) => v[i] as usize,
+                        NodeEntity::Edge { edge, index } => {
+                            let [a, b] = shape.edges()[edge];
+                            edge_node(&layout, p, cell_edges[edge] as usize, v[a] > v[b], index)
+                        }
+                        NodeEntity::Face { face, index } => {
+                            let f = cell_faces[face] as usize;
+                            let corners = shape.faces()[face];
+                            let mut local = [0u32; 4];
+                            for (l, &i) in local.iter_mut().zip(corners) {
+                                *l = v[i];
+                            }
+                            let map = faces
+                                .interior_map(&local[..corners.len()], topology.faces.row(f))
+                                .ok_or(MeshError::MismatchedFace {
+                                    what: "cell",
+                                    index: c,
+                                })?;
+                            layout.face_first_node[f] as usize + map[index]
+                        }
+                        NodeEntity::Interior(index) => layout.cell_first_node[c] as usize + index,
+                    };
+                    ids.push(id as u32);
+                }
+                Ok(HighOrderElement {
+                    kind: cell.kind,
+                    nodes: ids,
+                    entity: cell.entity,
+                })
+            })
+            .collect::<Result<Vec<_>, MeshError>>()?;
 
-        // Declared facets: find their edge (2D) or face (3D), then lay out their nodes.
-        let edge_index: HashMap<[u32; 2], u32> = topology
-            .edges
-            .iter()
-            .enumerate()
-            .map(|(i, &e)| (e, i as u32))
-            .collect();
-        let face_index: HashMap<[u32; 4], u32> = topology
-            .faces
-            .rows()
-            .enumerate()
-            .map(|(i, f)| (face_key(f), i as u32))
-            .collect();
-        let find_edge = |a: u32, b: u32| edge_index.get(&if a < b { [a, b] } else { [b, a] });
+        // Declared facets: find their edge (2D) or face (3D), then lay out their nodes. Only
+        // the facets' own edges and faces are looked up.
+        let mut wanted_edges: HashMap<[u32; 2], u32> = HashMap::new();
+        let mut wanted_faces: HashMap<[u32; 4], u32> = HashMap::new();
+        for facet in &mesh.facets {
+            let v = &facet.vertices;
+            for &[a, b] in facet.kind.edges() {
+                let key = [v[a].min(v[b]), v[a].max(v[b])];
+                wanted_edges.insert(key, u32::MAX);
+            }
+            if mesh.dim == 3 {
+                wanted_faces.insert(face_key(v), u32::MAX);
+            }
+        }
+        if !wanted_edges.is_empty() {
+            for (i, e) in topology.edges.iter().enumerate() {
+                if let Some(id) = wanted_edges.get_mut(e) {
+                    *id = i as u32;
+                }
+            }
+        }
+        if !wanted_faces.is_empty() {
+            for (i, f) in topology.faces.rows().enumerate() {
+                if let Some(id) = wanted_faces.get_mut(&face_key(f)) {
+                    *id = i as u32;
+                }
+            }
+        }
+        let found = |id: Option<&u32>| id.copied().filter(|&i| i != u32::MAX);
+        let find_edge =
+            |a: u32, b: u32| found(wanted_edges.get(&if a < b { [a, b] } else { [b, a] }));
         let mut facets = Vec::with_capacity(mesh.facets.len());
         let mut facet_ids = Vec::with_capacity(mesh.facets.len());
         for (k, facet) in mesh.facets.iter().enumerate() {
@@ -279,27 +287,28 @@ impl HighOrderMesh {
             let shape = facet.kind;
             let v = &facet.vertices;
             let facet_id = if mesh.dim == 2 {
-                *find_edge(v[0], v[1]).ok_or_else(not_found)?
+                find_edge(v[0], v[1]).ok_or_else(not_found)?
             } else {
-                *face_index.get(&face_key(v)).ok_or_else(not_found)?
+                found(wanted_faces.get(&face_key(v))).ok_or_else(not_found)?
             };
-            let reference = match references.entry(shape) {
-                Entry::Occupied(known) => known.into_mut(),
-                Entry::Vacant(slot) => slot.insert(ReferenceElement::shared(shape, p, family)?),
-            }
-            .nodes();
+            let reference = references[&shape].nodes();
             let mut ids = Vec::with_capacity(reference.len());
             for entity in reference.entities() {
                 let id = match *entity {
                     NodeEntity::Vertex(i) => v[i] as usize,
                     NodeEntity::Edge { edge, index } => {
                         let [a, b] = shape.edges()[edge];
-                        let e = *find_edge(v[a], v[b]).ok_or_else(not_found)? as usize;
+                        let e = find_edge(v[a], v[b]).ok_or_else(not_found)? as usize;
                         edge_node(&layout, p, e, v[a] > v[b], index)
                     }
                     NodeEntity::Interior(index) => {
                         let f = facet_id as usize;
-                        let map = faces.interior_map(v, topology.faces.row(f));
+                        let map = faces.interior_map(v, topology.faces.row(f)).ok_or(
+                            MeshError::MismatchedFace {
+                                what: "facet",
+                                index: k,
+                            },
+                        )?;
                         layout.face_first_node[f] as usize + map[index]
                     }
                     NodeEntity::Face { .. } => unreachable!("facets are at most 2D"),
@@ -337,6 +346,51 @@ impl HighOrderMesh {
     pub fn straight_of_order(&self, order: usize) -> Result<HighOrderMesh, MeshError> {
         let vertices = &self.nodes[..self.layout.num_vertices.min(self.nodes.len())];
         self.straight_on(vertices, order, self.family)
+    }
+
+    /// The node positions of [`Self::straight_on`]`(vertices, order, family)` alone (no
+    /// connectivity built): the straight-sided nodes a curved mesh's displacement is
+    /// measured from.
+    pub fn straight_positions_on(
+        &self,
+        vertices: &[[f64; 3]],
+        order: usize,
+        family: NodeFamily,
+    ) -> Result<Vec<[f64; 3]>, MeshError> {
+        if vertices.len() != self.layout.num_vertices {
+            return Err(MeshError::VertexCount {
+                expected: self.layout.num_vertices,
+                found: vertices.len(),
+            });
+        }
+        family.check_order(order)?;
+        let mut references: BTreeMap<Shape, Arc<ReferenceElement>> = BTreeMap::new();
+        let mut corner_ids = Vec::with_capacity(self.cells.len());
+        for cell in &self.cells {
+            let corners = cell.kind.num_vertices();
+            if cell.nodes.len() < corners
+                || cell.nodes[..corners]
+                    .iter()
+                    .any(|&v| v as usize >= vertices.len())
+            {
+                return Err(MeshError::VertexCount {
+                    expected: self.layout.num_vertices,
+                    found: vertices.len(),
+                });
+            }
+            if let Entry::Vacant(slot) = references.entry(cell.kind) {
+                slot.insert(ReferenceElement::shared(cell.kind, order, family)?);
+            }
+            corner_ids.push((cell.kind, &cell.nodes[..corners]));
+        }
+        Ok(straight_positions(
+            vertices,
+            &self.topology,
+            &corner_ids,
+            order,
+            family,
+            &references,
+        ))
     }
 
     /// The straight-sided mesh of `order` and `family` on this mesh's cells and facets with
@@ -443,6 +497,52 @@ impl HighOrderMesh {
     }
 }
 
+/// The straight-sided positions of the order-`p` nodes of `family` in [`NodeLayout`] order:
+/// `vertices`, then each edge's, face's (canonical frame) and cell's interior nodes, cells
+/// given by shape and corner vertex ids; `references` holds every cell shape's element.
+fn straight_positions(
+    vertices: &[[f64; 3]],
+    topology: &Topology,
+    cells: &[(Shape, &[u32])],
+    p: usize,
+    family: NodeFamily,
+    references: &BTreeMap<Shape, Arc<ReferenceElement>>,
+) -> Vec<[f64; 3]> {
+    let line = family.interior_nodes(Shape::Line, p);
+    let mut nodes = Vec::new();
+    nodes.extend_from_slice(vertices);
+    nodes.par_extend(topology.edges.par_iter().flat_map_iter(|&[a, b]| {
+        let corners = [vertices[a as usize], vertices[b as usize]];
+        line.iter()
+            .map(move |(t, _)| straight_map(Shape::Line, &corners, *t))
+    }));
+    let tri_face = family.interior_nodes(Shape::Tri, p);
+    let quad_face = family.interior_nodes(Shape::Quad, p);
+    let face_rows: Vec<&[u32]> = topology.faces.rows().collect();
+    nodes.par_extend(face_rows.par_iter().flat_map_iter(|face| {
+        let corners: Vec<[f64; 3]> = face.iter().map(|&v| vertices[v as usize]).collect();
+        let shape = Shape::face_shape(face.len());
+        let set = if face.len() == 3 {
+            &tri_face
+        } else {
+            &quad_face
+        };
+        set.iter()
+            .map(move |(xi, _)| straight_map(shape, &corners, *xi))
+    }));
+    nodes.par_extend(cells.par_iter().flat_map_iter(|&(shape, ids)| {
+        let reference = references[&shape].nodes();
+        let corners: Vec<[f64; 3]> = ids.iter().map(|&v| vertices[v as usize]).collect();
+        reference
+            .points()
+            .iter()
+            .zip(reference.entities())
+            .filter(|(_, entity)| matches!(entity, NodeEntity::Interior(_)))
+            .map(move |(xi, _)| straight_map(shape, &corners, *xi))
+    }));
+    nodes
+}
+
 /// Global id of the `index`-th interior node of edge `e` as seen from an element whose local
 /// edge runs against the canonical direction when `reversed`.
 fn edge_node(layout: &NodeLayout, p: usize, e: usize, reversed: bool, index: usize) -> usize {
@@ -463,99 +563,100 @@ pub(crate) fn straight_map(shape: Shape, corners: &[[f64; 3]], xi: [f64; 3]) -> 
 }
 
 /// Maps between a face's interior nodes seen in a local frame and in its canonical frame,
-/// cached per orientation (a permutation of the face's vertices).
+/// one per orientation (a permutation of the face's vertices), all computed up front so
+/// that cells are laid out in parallel.
 struct FaceFrames {
-    p: i64,
-    /// Interior lattice (i, j) → interior index, for triangles and quadrilaterals.
-    tri_index: HashMap<[i64; 2], usize>,
-    quad_index: HashMap<[i64; 2], usize>,
-    tri_lattice: Vec<[i64; 3]>,
-    quad_lattice: Vec<[i64; 3]>,
-    cache: HashMap<(usize, [u8; 4]), Vec<usize>>,
+    /// Indexed by [`FaceFrames::orientation`]; None for permutations that are no
+    /// orientation (a quadrilateral's vertices out of cyclic order).
+    tri: Vec<Option<Vec<usize>>>,
+    quad: Vec<Option<Vec<usize>>>,
 }
 
 impl FaceFrames {
     fn new(p: usize, family: NodeFamily) -> Self {
+        let p = p as i64;
         let lattice = |s| -> Vec<[i64; 3]> {
             family
-                .interior_nodes(s, p)
+                .interior_nodes(s, p as usize)
                 .into_iter()
                 .map(|(_, l)| l)
                 .collect()
         };
-        let tri_lattice = lattice(Shape::Tri);
-        let quad_lattice = lattice(Shape::Quad);
-        let index = |l: &[[i64; 3]]| {
+        let index = |l: &[[i64; 3]]| -> HashMap<[i64; 2], usize> {
             l.iter()
                 .enumerate()
                 .map(|(i, m)| ([m[0], m[1]], i))
                 .collect()
         };
+        let (tri_lattice, quad_lattice) = (lattice(Shape::Tri), lattice(Shape::Quad));
+        let (tri_index, quad_index) = (index(&tri_lattice), index(&quad_lattice));
+        // sigma[r]: position in the canonical frame of local vertex r.
+        let tri_map = |sigma: &[u8]| -> Option<Vec<usize>> {
+            tri_lattice
+                .iter()
+                .map(|l| {
+                    // Barycentric lattice coordinates over the local vertices, permuted.
+                    let local_bary = [p - l[0] - l[1], l[0], l[1]];
+                    let mut bary = [0; 3];
+                    for r in 0..3 {
+                        bary[sigma[r] as usize] = local_bary[r];
+                    }
+                    tri_index.get(&[bary[1], bary[2]]).copied()
+                })
+                .collect()
+        };
+        let quad_map = |sigma: &[u8]| -> Option<Vec<usize>> {
+            let corner = [[0, 0], [p, 0], [p, p], [0, p]];
+            let local_of = |canon_pos: u8| {
+                sigma
+                    .iter()
+                    .position(|&s| s == canon_pos)
+                    .map(|r| corner[r])
+            };
+            let (o, a, b) = (local_of(0)?, local_of(1)?, local_of(3)?);
+            quad_lattice
+                .iter()
+                .map(|l| {
+                    let d = [l[0] - o[0], l[1] - o[1]];
+                    let i = (d[0] * (a[0] - o[0]) + d[1] * (a[1] - o[1])) / p;
+                    let j = (d[0] * (b[0] - o[0]) + d[1] * (b[1] - o[1])) / p;
+                    quad_index.get(&[i, j]).copied()
+                })
+                .collect()
+        };
+        let all = |n: usize, map: &dyn Fn(&[u8]) -> Option<Vec<usize>>| {
+            (0..n.pow(n as u32))
+                .map(|code| {
+                    let sigma: Vec<u8> =
+                        (0..n).map(|r| (code / n.pow(r as u32) % n) as u8).collect();
+                    let mut seen = sigma.clone();
+                    seen.sort_unstable();
+                    seen.dedup();
+                    (seen.len() == n).then(|| map(&sigma)).flatten()
+                })
+                .collect()
+        };
         FaceFrames {
-            p: p as i64,
-            tri_index: index(&tri_lattice),
-            quad_index: index(&quad_lattice),
-            tri_lattice,
-            quad_lattice,
-            cache: HashMap::new(),
+            tri: all(3, &tri_map),
+            quad: all(4, &quad_map),
         }
     }
 
     /// For a face whose vertices are `local` in a local frame (origin `local[0]`, ξ towards
     /// `local[1]`, η towards the last) and `canonical` in the canonical frame, entry k is the
-    /// canonical interior index of the local interior node k.
-    fn interior_map(&mut self, local: &[u32], canonical: &[u32]) -> &[usize] {
+    /// canonical interior index of the local interior node k. None when the two are not
+    /// the same face in some orientation.
+    fn interior_map(&self, local: &[u32], canonical: &[u32]) -> Option<&[usize]> {
         let n = local.len();
-        // sigma[r]: position in the canonical frame of local vertex r.
-        let mut sigma = [0u8; 4];
-        for (r, v) in local.iter().enumerate() {
-            sigma[r] = canonical.iter().position(|c| c == v).unwrap_or(0) as u8;
+        if canonical.len() != n {
+            return None;
         }
-        let p = self.p;
-        let FaceFrames {
-            tri_index,
-            quad_index,
-            tri_lattice,
-            quad_lattice,
-            cache,
-            ..
-        } = self;
-        cache.entry((n, sigma)).or_insert_with(|| {
-            if n == 3 {
-                tri_lattice
-                    .iter()
-                    .map(|l| {
-                        // Barycentric lattice coordinates over the local vertices, permuted.
-                        let local_bary = [p - l[0] - l[1], l[0], l[1]];
-                        let mut bary = [0; 3];
-                        for r in 0..3 {
-                            bary[sigma[r] as usize] = local_bary[r];
-                        }
-                        tri_index[&[bary[1], bary[2]]]
-                    })
-                    .collect()
-            } else {
-                let corner = [[0, 0], [p, 0], [p, p], [0, p]];
-                let local_of = |canon_pos: u8| {
-                    let r = sigma
-                        .iter()
-                        .take(4)
-                        .position(|&s| s == canon_pos)
-                        .unwrap_or(0);
-                    corner[r]
-                };
-                let (o, a, b) = (local_of(0), local_of(1), local_of(3));
-                quad_lattice
-                    .iter()
-                    .map(|l| {
-                        let d = [l[0] - o[0], l[1] - o[1]];
-                        let i = (d[0] * (a[0] - o[0]) + d[1] * (a[1] - o[1])) / p;
-                        let j = (d[0] * (b[0] - o[0]) + d[1] * (b[1] - o[1])) / p;
-                        quad_index[&[i, j]]
-                    })
-                    .collect()
-            }
-        })
+        let mut code = 0;
+        for (r, v) in local.iter().enumerate() {
+            code += canonical.iter().position(|c| c == v)? * n.pow(r as u32);
+        }
+        let table = if n == 3 { &self.tri } else { &self.quad };
+        table.get(code)?.as_deref()
     }
 }
 

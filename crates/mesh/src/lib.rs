@@ -219,6 +219,26 @@ pub enum MeshError {
         found: usize,
     },
     /// Vertex positions given for a mesh with a different number of vertices.
+    /// A face of a cell or facet whose vertices are not those of the mesh face it shares
+    /// with a neighbour in any orientation (a quadrilateral's vertices in another cyclic
+    /// order): the cells are not conforming.
+    #[error(
+        "{what} {index} has a face whose vertices are ordered inconsistently with its neighbour's"
+    )]
+    MismatchedFace {
+        /// "cell" or "facet".
+        what: &'static str,
+        /// Its index.
+        index: usize,
+    },
+    /// More of something than 32-bit ids can number.
+    #[error("the mesh has {count} {what}: more than 32-bit ids can number")]
+    TooLarge {
+        /// What was counted.
+        what: &'static str,
+        /// How many.
+        count: usize,
+    },
     #[error("{found} vertex positions given for a mesh of {expected} vertices")]
     VertexCount {
         /// The mesh's vertices.

@@ -5,7 +5,7 @@
 //! order ([`canonical_face`]). Edge and face ids are given in order of first appearance
 //! when scanning cells in order, so the numbering is deterministic.
 
-use std::collections::HashMap;
+use rayon::prelude::*;
 
 use crate::{Jagged, LinearMesh, MeshError};
 
@@ -37,7 +37,7 @@ pub fn canonical_face(vertices: &[u32]) -> Vec<u32> {
     }
 }
 
-/// Key of a face in hash maps: its sorted vertex ids, padded.
+/// Key of a face: its sorted vertex ids, padded.
 pub(crate) fn face_key(vertices: &[u32]) -> [u32; 4] {
     let mut key = [u32::MAX; 4];
     key[..vertices.len()].copy_from_slice(vertices);
@@ -45,35 +45,72 @@ pub(crate) fn face_key(vertices: &[u32]) -> [u32; 4] {
     key
 }
 
-/// A multiplicative hasher for keys made of vertex ids (FxHash's mixing step): the default
-/// SipHash cost more than everything else in building the topology of a large mesh. Ids are
-/// given in order of first appearance, so the hash does not change the result.
-#[derive(Default)]
-struct VertexIdHasher(u64);
+/// Marks a key met only once.
+const NO_OCCURRENCE: u32 = u32::MAX;
 
-impl std::hash::Hasher for VertexIdHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-
-    fn write(&mut self, bytes: &[u8]) {
-        for chunk in bytes.chunks(4) {
-            let mut word = [0u8; 4];
-            word[..chunk.len()].copy_from_slice(chunk);
-            self.write_u32(u32::from_le_bytes(word));
-        }
-    }
-
-    fn write_u32(&mut self, value: u32) {
-        self.0 = (self.0.rotate_left(5) ^ u64::from(value)).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
-
-    fn write_usize(&mut self, value: usize) {
-        self.0 = (self.0.rotate_left(5) ^ value as u64).wrapping_mul(0x517c_c1b7_2722_0a95);
-    }
+/// Ids of keys numbered by first occurrence.
+struct FirstAppearance {
+    /// The id of each occurrence's key.
+    id: Vec<u32>,
+    /// Each id's first occurrence.
+    first: Vec<u32>,
+    /// Each id's second occurrence ([`NO_OCCURRENCE`] if none).
+    second: Vec<u32>,
+    /// The earliest third occurrence of any key (a facet of more than two cells).
+    overfull: Option<u32>,
 }
 
-type VertexIdMap<K> = HashMap<K, u32, std::hash::BuildHasherDefault<VertexIdHasher>>;
+impl FirstAppearance {
+    /// `keyed[o] = (key, o)` for occurrences o = 0, 1, …
+    fn number<K: Ord + Copy + Send>(mut keyed: Vec<(K, u32)>) -> Self {
+        let n = keyed.len();
+        // Equal keys become runs, ordered by occurrence within.
+        keyed.par_sort_unstable();
+        // rep[o]: the first occurrence of o's key; second[o] for first occurrences.
+        let mut rep = vec![0u32; n];
+        let mut second_of = vec![NO_OCCURRENCE; n];
+        let mut overfull: Option<u32> = None;
+        let mut i = 0;
+        while i < n {
+            let mut j = i + 1;
+            while j < n && keyed[j].0 == keyed[i].0 {
+                j += 1;
+            }
+            let first = keyed[i].1;
+            for &(_, o) in &keyed[i..j] {
+                rep[o as usize] = first;
+            }
+            if j - i >= 2 {
+                second_of[first as usize] = keyed[i + 1].1;
+            }
+            if j - i >= 3 {
+                let third = keyed[i + 2].1;
+                overfull = Some(overfull.map_or(third, |o| o.min(third)));
+            }
+            i = j;
+        }
+        drop(keyed);
+        // In occurrence order, first occurrences take the next id; the others their first
+        // occurrence's, numbered already (rep[o] < o). rep becomes the ids in place.
+        let (mut first, mut second) = (Vec::new(), Vec::new());
+        for o in 0..n {
+            let r = rep[o] as usize;
+            if r == o {
+                rep[o] = first.len() as u32;
+                first.push(o as u32);
+                second.push(second_of[o]);
+            } else {
+                rep[o] = rep[r];
+            }
+        }
+        FirstAppearance {
+            id: rep,
+            first,
+            second,
+            overfull,
+        }
+    }
+}
 
 /// Edges and faces of a mesh and their incidence with cells, read through accessors (u32
 /// ids) so that the storage can change without its users.
@@ -95,67 +132,80 @@ pub struct Topology {
 
 impl Topology {
     /// Builds the topology of a validated mesh. Fails if more than two cells share a facet.
+    ///
+    /// Every (cell, local edge) and (cell, local face) is an occurrence of a key (its sorted
+    /// vertices); the occurrences are sorted by key in parallel, and each key's id is its
+    /// rank by first occurrence — the numbering a scan of the cells in order would give,
+    /// whatever the thread count.
     pub fn new(mesh: &LinearMesh) -> Result<Self, MeshError> {
-        let mut topo = Topology::default();
-        // Tetrahedral meshes have about 1.2 edges and 2 faces per cell.
-        let cells = mesh.cells.len();
-        let mut edge_ids: VertexIdMap<[u32; 2]> = VertexIdMap::default();
-        edge_ids.reserve(cells + cells / 2);
-        let mut face_ids: VertexIdMap<[u32; 4]> = VertexIdMap::default();
-        if mesh.dim == 3 {
-            face_ids.reserve(2 * cells + cells / 4);
-        }
-        let mut face_cells: Vec<[u32; 2]> = Vec::new();
-        let mut edge_cells: Vec<[u32; 2]> = Vec::new();
-        let mut overfull: Option<Vec<u32>> = None;
-        let mut attach = |slots: &mut Vec<[u32; 2]>, id: u32, cell: u32, verts: &[u32]| {
-            let s = &mut slots[id as usize];
-            if s[0] == NO_CELL {
-                s[0] = cell;
-            } else if s[1] == NO_CELL {
-                s[1] = cell;
-            } else if overfull.is_none() {
-                overfull = Some(verts.to_vec());
+        let cells = &mesh.cells;
+        let offsets = |count: fn(&crate::Element) -> usize| {
+            let mut offsets = Vec::with_capacity(cells.len() + 1);
+            offsets.push(0usize);
+            for cell in cells {
+                offsets.push(offsets[offsets.len() - 1] + count(cell));
             }
+            offsets
         };
-        for (c, cell) in mesh.cells.iter().enumerate() {
-            let shape = cell.kind;
-            let v = &cell.vertices;
-            let mut row = Vec::with_capacity(shape.edges().len());
-            for &[a, b] in shape.edges() {
-                let key = if v[a] < v[b] {
-                    [v[a], v[b]]
-                } else {
-                    [v[b], v[a]]
-                };
-                let next = topo.edges.len() as u32;
-                let id = *edge_ids.entry(key).or_insert(next);
-                if id == next {
-                    topo.edges.push(key);
-                    edge_cells.push([NO_CELL; 2]);
-                }
-                if mesh.dim == 2 {
-                    attach(&mut edge_cells, id, c as u32, &key);
-                }
-                row.push(id);
-            }
-            topo.cell_edges.push_row(row);
-            let mut row = Vec::with_capacity(shape.faces().len());
-            for face in shape.faces() {
-                let verts: Vec<u32> = face.iter().map(|&i| v[i]).collect();
-                let key = face_key(&verts);
-                let next = face_cells.len() as u32;
-                let id = *face_ids.entry(key).or_insert(next);
-                if id == next {
-                    topo.faces.push_row(canonical_face(&verts));
-                    face_cells.push([NO_CELL; 2]);
-                }
-                attach(&mut face_cells, id, c as u32, &verts);
-                row.push(id);
-            }
-            topo.cell_faces.push_row(row);
-        }
-        if let Some(vertices) = overfull {
+        let edge_offsets = offsets(|cell| cell.kind.edges().len());
+        let face_offsets = offsets(|cell| cell.kind.faces().len());
+        let too_many = |n: usize| {
+            u32::try_from(n).map_err(|_| MeshError::TooLarge {
+                what: "cell edges or faces",
+                count: n,
+            })
+        };
+        too_many(edge_offsets[cells.len()])?;
+        too_many(face_offsets[cells.len()])?;
+        let edge_keys: Vec<(u64, u32)> = cells
+            .par_iter()
+            .zip(&edge_offsets[..cells.len()])
+            .flat_map_iter(|(cell, &first)| {
+                let v = &cell.vertices;
+                cell.kind
+                    .edges()
+                    .iter()
+                    .enumerate()
+                    .map(move |(i, &[a, b])| {
+                        let (lo, hi) = (v[a].min(v[b]), v[a].max(v[b]));
+                        ((u64::from(lo) << 32) | u64::from(hi), (first + i) as u32)
+                    })
+            })
+            .collect();
+        let edges = FirstAppearance::number(edge_keys);
+        let face_keys: Vec<([u32; 4], u32)> = cells
+            .par_iter()
+            .zip(&face_offsets[..cells.len()])
+            .flat_map_iter(|(cell, &first)| {
+                let v = &cell.vertices;
+                cell.kind.faces().iter().enumerate().map(move |(i, face)| {
+                    let verts: Vec<u32> = face.iter().map(|&k| v[k]).collect();
+                    (face_key(&verts), (first + i) as u32)
+                })
+            })
+            .collect();
+        let faces = FirstAppearance::number(face_keys);
+        // The cell and local index of an occurrence.
+        let locate = |offsets: &[usize], occurrence: u32| {
+            let o = occurrence as usize;
+            let c = offsets.partition_point(|&s| s <= o) - 1;
+            (c, o - offsets[c])
+        };
+        let facets = if mesh.dim == 2 {
+            (&edges, &edge_offsets)
+        } else {
+            (&faces, &face_offsets)
+        };
+        if let Some(third) = facets.0.overfull {
+            let (c, local) = locate(facets.1, third);
+            let v = &cells[c].vertices;
+            let vertices: Vec<u32> = if mesh.dim == 2 {
+                let [a, b] = cells[c].kind.edges()[local];
+                let key = [v[a].min(v[b]), v[a].max(v[b])];
+                key.to_vec()
+            } else {
+                cells[c].kind.faces()[local].iter().map(|&k| v[k]).collect()
+            };
             let vertex_tags = vertices
                 .iter()
                 .map(|&v| mesh.vertex_tag(v as usize))
@@ -165,12 +215,54 @@ impl Topology {
                 vertex_tags,
             });
         }
-        topo.facet_cells = if mesh.dim == 2 {
-            edge_cells
-        } else {
-            face_cells
-        };
-        Ok(topo)
+        let unique_edges: Vec<[u32; 2]> = edges
+            .first
+            .par_iter()
+            .map(|&o| {
+                let (c, local) = locate(&edge_offsets, o);
+                let v = &cells[c].vertices;
+                let [a, b] = cells[c].kind.edges()[local];
+                [v[a].min(v[b]), v[a].max(v[b])]
+            })
+            .collect();
+        let unique_faces: Vec<Vec<u32>> = faces
+            .first
+            .par_iter()
+            .map(|&o| {
+                let (c, local) = locate(&face_offsets, o);
+                let v = &cells[c].vertices;
+                let verts: Vec<u32> = cells[c].kind.faces()[local].iter().map(|&k| v[k]).collect();
+                canonical_face(&verts)
+            })
+            .collect();
+        let mut face_rows = Jagged::new();
+        for face in unique_faces {
+            face_rows.push_row(face);
+        }
+        let facet_cells = facets
+            .0
+            .first
+            .par_iter()
+            .zip(&facets.0.second)
+            .map(|(&first, &second)| {
+                let cell = |o: u32| locate(facets.1, o).0 as u32;
+                [
+                    cell(first),
+                    if second == NO_OCCURRENCE {
+                        NO_CELL
+                    } else {
+                        cell(second)
+                    },
+                ]
+            })
+            .collect();
+        Ok(Topology {
+            edges: unique_edges,
+            faces: face_rows,
+            cell_edges: Jagged::from_parts(edge_offsets, edges.id),
+            cell_faces: Jagged::from_parts(face_offsets, faces.id),
+            facet_cells,
+        })
     }
 
     /// The unique edges, vertices sorted ascending (edge id = position).

@@ -348,7 +348,21 @@ fn straight_of_order_rebuilds_the_mesh_of_another_order_with_the_same_entities()
             assert_eq!(rebuilt.cells, direct.cells);
             assert_eq!(rebuilt.facets, direct.facets);
             assert_eq!(rebuilt.layout, direct.layout);
+            // The positions alone, on moved vertices, as the whole rebuilt mesh has them.
+            let moved: Vec<[f64; 3]> = mesh
+                .vertices
+                .iter()
+                .map(|x| [x[0] + 0.1 * x[2], x[1] - 0.05 * x[0], x[2]])
+                .collect();
+            assert_eq!(
+                fine.straight_positions_on(&moved, q, family).unwrap(),
+                fine.straight_on(&moved, q, family).unwrap().nodes
+            );
         }
+        assert!(matches!(
+            fine.straight_positions_on(&mesh.vertices[1..], 2, family),
+            Err(MeshError::VertexCount { .. })
+        ));
     }
 }
 
