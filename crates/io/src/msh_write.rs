@@ -200,17 +200,38 @@ impl<'a> Plan<'a> {
             f64::NEG_INFINITY,
             f64::NEG_INFINITY,
         ];
+        // Elements come in runs of one entity: one map lookup per run.
         let mut boxes: BTreeMap<(usize, i32), [f64; 6]> = BTreeMap::new();
         for g in &groups {
-            for e in g.elements {
-                let b = boxes.entry((g.dim, e.entity)).or_insert(empty);
-                for &n in &e.nodes {
-                    let x = mesh.nodes[n as usize];
+            for run in g.elements.chunk_by(|a, b| a.entity == b.entity) {
+                // Min and max in any order: the same box for any thread count.
+                let widen = |mut b: [f64; 6], x: [f64; 3]| {
                     for d in 0..3 {
                         b[d] = b[d].min(x[d]);
                         b[d + 3] = b[d + 3].max(x[d]);
                     }
-                }
+                    b
+                };
+                let run_box = run
+                    .par_iter()
+                    .with_min_len(1024)
+                    .fold(
+                        || empty,
+                        |b, e| {
+                            e.nodes
+                                .iter()
+                                .fold(b, |b, &n| widen(b, mesh.nodes[n as usize]))
+                        },
+                    )
+                    .reduce(
+                        || empty,
+                        |a, c| widen(widen(a, [c[0], c[1], c[2]]), [c[3], c[4], c[5]]),
+                    );
+                let b = boxes.entry((g.dim, run[0].entity)).or_insert(empty);
+                *b = widen(
+                    widen(*b, [run_box[0], run_box[1], run_box[2]]),
+                    [run_box[3], run_box[4], run_box[5]],
+                );
             }
         }
         let entities: Vec<((usize, i32), [f64; 6])> = boxes.into_iter().collect();
@@ -223,11 +244,13 @@ impl<'a> Plan<'a> {
         // Classification: the smallest entity index (lowest dimension, then tag) using it.
         let mut node_entity = vec![usize::MAX; mesh.nodes.len()];
         for g in &groups {
-            for e in g.elements {
-                let k = index[&(g.dim, e.entity)];
-                for &n in &e.nodes {
-                    let slot = &mut node_entity[n as usize];
-                    *slot = (*slot).min(k);
+            for run in g.elements.chunk_by(|a, b| a.entity == b.entity) {
+                let k = index[&(g.dim, run[0].entity)];
+                for e in run {
+                    for &n in &e.nodes {
+                        let slot = &mut node_entity[n as usize];
+                        *slot = (*slot).min(k);
+                    }
                 }
             }
         }
@@ -249,7 +272,7 @@ impl<'a> Plan<'a> {
         })
     }
 
-    fn write<W: Write>(&self, w: &mut W, mesh: &HighOrderMesh) -> std::io::Result<()> {
+    fn write<W: Write + Send>(&self, w: &mut W, mesh: &HighOrderMesh) -> std::io::Result<()> {
         writeln!(w, "$MeshFormat\n4.1 0 8\n$EndMeshFormat")?;
 
         let named: Vec<_> = mesh
@@ -358,7 +381,7 @@ impl<'a> Plan<'a> {
     }
 
     /// The `$NodeData` and `$ElementData` views (arrays already checked).
-    fn write_data<W: Write>(
+    fn write_data<W: Write + Send>(
         &self,
         w: &mut W,
         mesh: &HighOrderMesh,
@@ -407,8 +430,9 @@ fn push_integer(t: &mut String, n: usize) {
 
 /// Writes the lines `line(i)` for `i` in `range`, formatted in parallel in blocks of
 /// consecutive lines and written in order: the bytes of a sequential loop (formatting
-/// floats is most of the cost of writing a large mesh).
-fn write_lines<W: Write>(
+/// floats is most of the cost of writing a large mesh). A batch of blocks is written while
+/// the next is formatted, into buffers reused from batch to batch.
+fn write_lines<W: Write + Send>(
     w: &mut W,
     range: Range<usize>,
     line: impl Fn(usize, &mut String) -> std::fmt::Result + Sync,
@@ -421,23 +445,32 @@ fn write_lines<W: Write>(
         .step_by(BLOCK)
         .map(|s| s..(s + BLOCK).min(range.end))
         .collect();
-    for batch in blocks.chunks(BATCH) {
-        let texts: Vec<Result<String, std::fmt::Error>> = batch
-            .par_iter()
-            .map(|block| {
-                let mut text = String::with_capacity(block.len() * 24);
-                for i in block.clone() {
-                    line(i, &mut text)?;
-                }
-                Ok(text)
+    let format = |batch: &[Range<usize>], texts: &mut Vec<String>| -> std::io::Result<()> {
+        texts.resize_with(batch.len(), String::new);
+        texts
+            .par_iter_mut()
+            .zip(batch)
+            .try_for_each(|(text, block)| {
+                text.clear();
+                block.clone().try_for_each(|i| line(i, text))
             })
-            .collect();
-        for text in texts {
-            let text = text.map_err(|_| std::io::Error::other("formatting a mesh line failed"))?;
-            w.write_all(text.as_bytes())?;
-        }
+            .map_err(|_| std::io::Error::other("formatting a mesh line failed"))
+    };
+    let write = |w: &mut W, texts: &[String]| -> std::io::Result<()> {
+        texts.iter().try_for_each(|t| w.write_all(t.as_bytes()))
+    };
+    let mut batches = blocks.chunks(BATCH);
+    let (mut ready, mut spare) = (Vec::new(), Vec::new());
+    if let Some(first) = batches.next() {
+        format(first, &mut ready)?;
     }
-    Ok(())
+    for batch in batches {
+        let (written, formatted) = rayon::join(|| write(w, &ready), || format(batch, &mut spare));
+        written?;
+        formatted?;
+        std::mem::swap(&mut ready, &mut spare);
+    }
+    write(w, &ready)
 }
 
 #[cfg(test)]
