@@ -288,6 +288,8 @@ pub(crate) fn solve_in_active_region(
                 sub_bc.prescribed.insert(s, u);
             } else if fixed[m as usize] {
                 sub_bc.prescribed.insert(s, [0.0; 3]);
+            } else if let Some(&direction) = bc.along_line.get(&m) {
+                sub_bc.along_line.insert(s, direction);
             } else if let Some(&normal) = bc.sliding.get(&m) {
                 sub_bc.sliding.insert(s, normal);
             }

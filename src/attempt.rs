@@ -15,10 +15,10 @@ use hocurve_nodes::NodeFamily;
 use hocurve_quality::MeshQuality;
 
 use crate::active_region::{solve_in_active_region, solve_whole_mesh, SolveRegion};
-use crate::boundary_conditions::boundary_conditions;
+use crate::boundary_conditions::{boundary_conditions, sliding_groups};
 use crate::certification::{affine_cells, assess_certified_with_affine, invalid_elements};
 use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, Step};
-use crate::report::{CurveReport, StepTimings};
+use crate::report::{CurveReport, SlidingGroup, StepTimings};
 
 /// The displacement error CG may leave, relative to the shortest edge of the mesh: it
 /// changes any element's Jacobian by about this fraction (boundary nodes are exact, the
@@ -67,8 +67,10 @@ pub(crate) struct Attempt {
     pub(crate) targets: Option<hocurve_geodesic::BoundaryTargets>,
     /// Largest distance of a curved-boundary node of `mesh` from its entities.
     pub(crate) max_geometry_distance: f64,
-    /// Nodes sliding in a plane.
+    /// Nodes sliding in a plane or along a line.
     pub(crate) sliding_nodes: usize,
+    /// The groups they slide on.
+    pub(crate) sliding_groups: Vec<SlidingGroup>,
     /// Solver name, iterations, unknowns, relative residual.
     pub(crate) solve: (String, usize, usize, f64),
     /// Cells in the elastic solve.
@@ -93,6 +95,7 @@ impl Attempt {
             targets: None,
             max_geometry_distance: 0.0,
             sliding_nodes: 0,
+            sliding_groups: Vec::new(),
             solve: (String::from("none"), 0, 0, 0.0),
             solve_cells: 0,
             solves: 0,
@@ -138,8 +141,14 @@ impl Attempt {
         let mut attempt = Attempt::straight(straight);
         if !options.boundary_only {
             progress(Progress::Step(Step::Elasticity));
-            let bc = boundary_conditions(&mesh, &targets.targets, &options.slide)?;
-            attempt.sliding_nodes = bc.sliding.len();
+            let groups = sliding_groups(&mesh, &targets.targets, &options.slide, &options.fix)?;
+            let names: Vec<String> = groups.iter().map(|(n, _)| n.clone()).collect();
+            let bc = boundary_conditions(&mesh, &targets.targets, &names)?;
+            attempt.sliding_nodes = bc.sliding.len() + bc.along_line.len();
+            attempt.sliding_groups = groups
+                .into_iter()
+                .map(|(name, by_default)| SlidingGroup { name, by_default })
+                .collect();
             let mut report = |p| progress(Progress::Elasticity(p));
             let mut last_bound = None;
             let mut solve_on = |part: &HighOrderMesh,
@@ -318,6 +327,7 @@ impl Attempt {
             untangle_rounds: 0,
             unused_node_tags: Vec::new(),
             sliding_nodes: self.sliding_nodes,
+            sliding_groups: self.sliding_groups,
             solver: self.solve.0,
             iterations: self.solve.1,
             residual: self.solve.3,

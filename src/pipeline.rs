@@ -65,17 +65,28 @@ pub enum CurveError {
         /// The association tolerance used.
         tolerance: f64,
     },
-    /// A `slide` group is not among the mesh's boundary groups.
-    #[error("--slide {name}: no boundary physical group of that name (the mesh has: {available})")]
+    /// A `slide` or `fix` group is not among the mesh's boundary groups.
+    #[error(
+        "--{option} {name}: no boundary physical group of that name (the mesh has: {available})"
+    )]
     UnknownSlideGroup {
+        /// "slide" or "fix".
+        option: &'static str,
         /// The requested group.
         name: String,
         /// The names the mesh has.
         available: String,
     },
-    /// A `slide` group is not planar (straight in 2D), so it has no single sliding normal.
+    /// A group given both to `slide` and to `fix`.
+    #[error("--slide {name} and --fix {name}: a group cannot both slide and be fixed")]
+    SlideAndFix {
+        /// The group.
+        name: String,
+    },
+    /// A piece of a `slide` group is not planar (a warped quadrilateral facet), so it has
+    /// no sliding normal.
     #[error(
-        "--slide {name}: the group is not planar (a vertex is {distance:.3e} off its best plane)"
+        "--slide {name}: the group is not made of planes (a vertex is {distance:.3e} off the best plane of its facets)"
     )]
     SlideGroupNotPlanar {
         /// The group.
@@ -119,8 +130,13 @@ pub struct CurveOptions {
     pub material: Material,
     /// Linear solver settings.
     pub solver: SolverOptions,
-    /// Boundary physical groups whose nodes slide in their plane (u·n = 0).
+    /// Boundary physical groups whose nodes slide in their planes (u·n = 0; along the line
+    /// where two of a group's planes meet).
     pub slide: Vec<String>,
+    /// Boundary physical groups kept fixed although they would slide by default (see
+    /// [`crate::boundary_conditions::sliding_groups`]: groups made of planes meeting a
+    /// curved boundary).
+    pub fix: Vec<String>,
     /// Move only the boundary nodes (no elastic solve).
     pub boundary_only: bool,
     /// The cells the elastic solve covers: an active region around the curved boundaries
@@ -155,6 +171,7 @@ impl CurveOptions {
             material: Material::default(),
             solver: SolverOptions::default(),
             slide: Vec::new(),
+            fix: Vec::new(),
             boundary_only: false,
             solve_region: SolveRegion::ACTIVE,
             quality: QualityOptions::default(),

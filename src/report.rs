@@ -36,6 +36,15 @@ pub struct StepTimings {
 }
 
 /// The machine-readable account of one curving run (`hocurve curve --report`).
+/// A boundary group whose nodes slide.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize)]
+pub struct SlidingGroup {
+    /// The physical group's name.
+    pub name: String,
+    /// Sliding by default rather than by `--slide`.
+    pub by_default: bool,
+}
+
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct CurveReport {
     /// Polynomial order p.
@@ -104,8 +113,11 @@ pub struct CurveReport {
     pub doubly_curved_cells: Vec<usize>,
     /// Tags of the input nodes no cell uses, left out of the curved mesh.
     pub unused_node_tags: Vec<u64>,
-    /// Nodes sliding in a plane (`--slide`).
+    /// Nodes sliding in a plane or along a line (`--slide`, and groups sliding by default).
     pub sliding_nodes: usize,
+    /// The boundary groups that slide, each flagged when it slides by default (made of
+    /// planes and meeting a curved boundary; `--fix` keeps it fixed).
+    pub sliding_groups: Vec<SlidingGroup>,
     /// Solver used: `direct`, `cg` or `none`.
     pub solver: String,
     /// CG iterations (0 for the direct solver).

@@ -71,7 +71,21 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
         ));
     }
     if r.sliding_nodes > 0 {
-        rows.push(("sliding nodes", r.sliding_nodes.to_string()));
+        let groups: Vec<String> = r
+            .sliding_groups
+            .iter()
+            .map(|g| {
+                if g.by_default {
+                    format!("{} (by default; --fix {} holds it)", g.name, g.name)
+                } else {
+                    g.name.clone()
+                }
+            })
+            .collect();
+        rows.push((
+            "sliding nodes",
+            format!("{} on {}", r.sliding_nodes, groups.join(", ")),
+        ));
     }
     if r.edges_split > 0 {
         rows.push((

@@ -290,11 +290,32 @@ fn sliding_groups_keep_their_nodes_in_their_plane_and_move_them_along_it() {
         model: &model,
         rule: AssociationRule::NameOnly,
     };
-    let fixed = curve_mesh(&linear, Some(geometry), &CurveOptions::new(4), &mut |_| {}).unwrap();
     let mut options = CurveOptions::new(4);
+    options.fix = vec!["bottom".into(), "left".into()];
+    let fixed = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert_eq!(fixed.report.sliding_nodes, 0);
+    options.fix.clear();
+    // The straight sides meet the curved wall: they slide by default, as with --slide.
+    let by_default = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
     options.slide = vec!["bottom".into(), "left".into()];
     let slid = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
     assert!(slid.report.sliding_nodes > 0);
+    assert_eq!(by_default.mesh.nodes, slid.mesh.nodes);
+    let groups = |c: &CurvedMesh| -> Vec<(String, bool)> {
+        c.report
+            .sliding_groups
+            .iter()
+            .map(|g| (g.name.clone(), g.by_default))
+            .collect()
+    };
+    assert_eq!(
+        groups(&by_default),
+        [("bottom".to_string(), true), ("left".to_string(), true)]
+    );
+    assert_eq!(
+        groups(&slid),
+        [("bottom".to_string(), false), ("left".to_string(), false)]
+    );
     assert_eq!(slid.report.invalid_elements, 0);
     let bottom = group_nodes(&slid.mesh, "bottom");
     let left = group_nodes(&slid.mesh, "left");
@@ -324,19 +345,109 @@ fn sliding_groups_keep_their_nodes_in_their_plane_and_move_them_along_it() {
         })
         .unwrap();
     assert_eq!(slid.mesh.nodes[corner as usize][1], 0.0);
-    // A group that does not exist, and one that is not planar, are errors.
+    // A group that does not exist (to slide or to fix), and one both slid and fixed, are
+    // errors.
     options.slide = vec!["symmetry".into()];
     let err = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).err();
     assert!(
-        matches!(err, Some(CurveError::UnknownSlideGroup { .. })),
+        matches!(
+            err,
+            Some(CurveError::UnknownSlideGroup {
+                option: "slide",
+                ..
+            })
+        ),
         "{err:?}"
     );
-    options.slide = vec!["outer".into()];
+    options.slide = vec!["bottom".into()];
+    options.fix = vec!["symmetry".into()];
     let err = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).err();
     assert!(
-        matches!(err, Some(CurveError::SlideGroupNotPlanar { .. })),
+        matches!(
+            err,
+            Some(CurveError::UnknownSlideGroup { option: "fix", .. })
+        ),
         "{err:?}"
     );
+    options.fix = vec!["bottom".into()];
+    let err = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).err();
+    assert!(
+        matches!(err, Some(CurveError::SlideAndFix { .. })),
+        "{err:?}"
+    );
+    // The outer arc is a polyline of 4 segments: each slides along its own line, the
+    // nodes where two meet stay, and every node stays on its segment.
+    options.fix.clear();
+    options.slide = vec!["outer".into()];
+    let outer = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert_eq!(outer.report.invalid_elements, 0);
+    let mut moved = 0.0f64;
+    for f in &outer.mesh.facets {
+        let x: Vec<[f64; 3]> = f
+            .nodes
+            .iter()
+            .map(|&n| outer.mesh.nodes[n as usize])
+            .collect();
+        let (a, b) = (x[0], x[1]);
+        if (a[0].hypot(a[1]) - 2.0).abs() > 1e-12 || (b[0].hypot(b[1]) - 2.0).abs() > 1e-12 {
+            continue;
+        }
+        for (k, y) in x.iter().enumerate() {
+            let off = (b[0] - a[0]) * (y[1] - a[1]) - (b[1] - a[1]) * (y[0] - a[0]);
+            assert!(off.abs() < 1e-12, "node {k} off its segment by {off:e}");
+            moved = moved.max(outer.displacement[f.nodes[k] as usize][0].abs());
+        }
+        for &n in &f.nodes[..2] {
+            assert_eq!(outer.displacement[n as usize], [0.0; 3]);
+        }
+    }
+    assert!(moved > 0.0);
+}
+
+/// The extruded boundary layer of `fixtures/cad/cylinder_layers` (hexahedra and prisms,
+/// first height 1e-3, the end planes z = 0 and z = 1 one group "ends"): the end planes
+/// slide by default, which keeps every element valid; held fixed, the cells at the wall's
+/// ends fold.
+#[test]
+fn an_extruded_boundary_layer_slides_its_two_end_planes_by_default() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let linear = hocurve::io::read_msh(&root.join("fixtures/cad/cylinder_layers.msh")).unwrap();
+    let model = parse_geometry_json(
+        &std::fs::read_to_string(root.join("fixtures/cad/cylinder_layers.json")).unwrap(),
+    )
+    .unwrap();
+    let geometry = by_name(&model);
+    let mut options = CurveOptions::new(2);
+    let curved = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert_eq!(curved.report.invalid_elements, 0);
+    assert_eq!(curved.report.uncertified_after_solve, 0);
+    assert!(curved.report.min_scaled_jacobian_lower_bound.unwrap() > 0.5);
+    assert_eq!(curved.report.sliding_groups.len(), 1);
+    assert!(curved.report.sliding_groups[0].by_default);
+    for n in group_nodes(&curved.mesh, "ends") {
+        let z = curved.mesh.nodes[n as usize][2];
+        // Exact in the solve; nodes on the wall carry the cylinder's rounding.
+        assert!(
+            z.abs() < 1e-15 || (z - 1.0).abs() < 1e-15,
+            "end node {n} left its plane: z = {z}"
+        );
+    }
+    for n in group_nodes(&curved.mesh, "cylinder") {
+        let x = curved.mesh.nodes[n as usize];
+        assert!((x[0].hypot(x[1]) - 0.5).abs() < 1e-12, "{x:?}");
+    }
+    // Wall nodes on the end planes move in them (the wall's edge nodes bow outwards).
+    let ends = group_nodes(&curved.mesh, "ends");
+    let bowed = ends
+        .iter()
+        .map(|&n| curved.displacement[n as usize])
+        .fold(0.0f64, |m, u| m.max(u[0].hypot(u[1])));
+    assert!(bowed > 1e-3, "{bowed}");
+    options.fix = vec!["ends".into()];
+    options.untangle = false;
+    options.stiffen = false;
+    let fixed = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert!(fixed.report.invalid_elements > 0);
 }
 
 /// The validity contract's first clause (DESIGN.md §12): the nodes that are written — the
@@ -416,6 +527,9 @@ fn thin_wall_annuli(
                 let mut options = CurveOptions::new(p);
                 options.stiffen = false;
                 options.untangle = false;
+                // The straight sides held (they would slide by default): every boundary
+                // node is then fixed or on the wall, and must stay where it is.
+                options.fix = vec!["bottom".into(), "left".into()];
                 let plain = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
                 enable(&mut options);
                 let curved = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();

@@ -4,7 +4,8 @@
     target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs) GROUP
 
 - Every node of every boundary element of physical group GROUP (the curved wall) lies on
-  the geometry: for a JSON sphere, | |x - c| - r |; for IGES, the distance to the nearest
+  the geometry: for a JSON sphere, | |x - c| - r | (a cylinder: its radial distance minus r);
+  for IGES, the distance to the nearest
   face of the model as OpenCASCADE (Gmsh's `getClosestPoint`) computes it.
 - det J of every cell, by Gmsh's `getJacobians`, at the degree-2p Gauss points and at the
   element's own nodes, is positive; Ĩ = min det J / max det J over those points.
@@ -66,11 +67,19 @@ def distances(path, points):
     if path.endswith(".json"):
         with open(path) as f:
             entities = json.load(f)["entities"]
-        spheres = [e for e in entities if e["kind"] == "sphere"]
-        if len(spheres) != 1:
-            raise SystemExit("the JSON check knows one sphere only")
-        c, r = np.array(spheres[0]["center"], float), float(spheres[0]["radius"])
-        return np.abs(np.linalg.norm(points - c, axis=1) - r), 2.0 * r
+        if len(entities) != 1 or entities[0]["kind"] not in ("sphere", "cylinder"):
+            raise SystemExit("the JSON check knows one sphere or one cylinder only")
+        e = entities[0]
+        r = float(e["radius"])
+        if e["kind"] == "sphere":
+            c = np.array(e["center"], float)
+            return np.abs(np.linalg.norm(points - c, axis=1) - r), 2.0 * r
+        # Distance from the (infinite) cylinder's side: |radial part| - r.
+        p0, axis = np.array(e["point"], float), np.array(e["axis"], float)
+        axis = axis / np.linalg.norm(axis)
+        rel = points - p0
+        radial = rel - np.outer(rel @ axis, axis)
+        return np.abs(np.linalg.norm(radial, axis=1) - r), 2.0 * r
     # IGES: OpenCASCADE's closest point on each face, in a model of its own.
     gmsh.model.add("geometry")
     gmsh.model.occ.importShapes(path)

@@ -125,10 +125,15 @@ struct MethodArgs {
     /// Linear solver: auto (direct for small systems, else CG), direct or cg.
     #[arg(long, default_value = "auto")]
     solver: SolverKind,
-    /// Boundary physical groups whose nodes slide in their plane (u·n = 0) instead of being
-    /// fixed, e.g. symmetry or end planes meeting a curved wall.
+    /// Boundary physical groups whose nodes slide in their planes (u·n = 0) instead of being
+    /// fixed; a group may be made of several planes (each node slides in its own, along the
+    /// line where two meet, and stays where three meet). Groups made of planes that meet a
+    /// curved boundary (end planes of extruded meshes, symmetry planes) slide by default.
     #[arg(long, num_args = 1.., value_name = "GROUP")]
     slide: Vec<String>,
+    /// Boundary physical groups kept fixed that would slide by default.
+    #[arg(long, num_args = 1.., value_name = "GROUP")]
+    fix: Vec<String>,
     /// Move only the boundary nodes onto the geometry (no elastic solve): for looking at
     /// the boundary placement.
     #[arg(long)]
@@ -336,6 +341,7 @@ impl MethodArgs {
         options.material = Material::new(self.young, self.poisson)?;
         options.solver.kind = self.solver;
         options.slide = self.slide.clone();
+        options.fix = self.fix.clone();
         options.boundary_only = self.boundary_only;
         options.solve_region = self.solve_region;
         options.certify = !self.no_certify;

@@ -11,21 +11,29 @@ use crate::ElasticError;
 ///
 /// A node in `prescribed` moves by the given displacement (unused components ignored in
 /// 2D). A node in `sliding` keeps its normal displacement zero, u·n = 0, and moves freely
-/// in its tangent plane (line in 2D); the normal need not be normalised. A node in both
-/// takes the prescribed value. All other nodes are free.
+/// in its tangent plane (line in 2D); the normal need not be normalised. A node in
+/// `along_line` moves only along the given direction, u ∥ t (where two sliding planes
+/// meet). Precedence: prescribed, then along a line, then sliding. All other nodes are
+/// free.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct BoundaryConditions {
     /// Prescribed displacement per node.
     pub prescribed: BTreeMap<u32, [f64; 3]>,
     /// Wall normal per sliding node.
     pub sliding: BTreeMap<u32, [f64; 3]>,
+    /// Direction of motion per node held to a line (3D; need not be normalised).
+    pub along_line: BTreeMap<u32, [f64; 3]>,
 }
 
 impl BoundaryConditions {
     /// Checks node ids against a mesh of `count` nodes and that values are finite and
     /// normals non-zero.
     pub fn validate(&self, count: usize, dim: usize) -> Result<(), ElasticError> {
-        let nodes = self.prescribed.iter().chain(&self.sliding);
+        let nodes = self
+            .prescribed
+            .iter()
+            .chain(&self.sliding)
+            .chain(&self.along_line);
         for (&node, value) in nodes {
             if node as usize >= count {
                 return Err(ElasticError::NodeOutOfRange { node, count });
@@ -38,10 +46,21 @@ impl BoundaryConditions {
             }
         }
         for (&node, normal) in &self.sliding {
-            if !self.prescribed.contains_key(&node) && normal[..dim].iter().all(|&v| v == 0.0) {
+            if !self.prescribed.contains_key(&node)
+                && !self.along_line.contains_key(&node)
+                && normal[..dim].iter().all(|&v| v == 0.0)
+            {
                 return Err(ElasticError::InvalidBoundaryValue {
                     node,
                     what: "zero sliding normal",
+                });
+            }
+        }
+        for (&node, direction) in &self.along_line {
+            if !self.prescribed.contains_key(&node) && direction[..dim].iter().all(|&v| v == 0.0) {
+                return Err(ElasticError::InvalidBoundaryValue {
+                    node,
+                    what: "zero line direction",
                 });
             }
         }

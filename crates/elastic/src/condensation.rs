@@ -81,6 +81,13 @@ impl Constraints {
             directions[n] = [t1, t2, [0.0; 3]];
             identity[n] = false;
         }
+        for (&n, direction) in &bc.along_line {
+            let len = direction[..dim].iter().map(|v| v * v).sum::<f64>().sqrt();
+            let n = n as usize;
+            count[n] = 1;
+            directions[n] = [direction.map(|v| v / len), [0.0; 3], [0.0; 3]];
+            identity[n] = false;
+        }
         for (&n, value) in &bc.prescribed {
             let n = n as usize;
             count[n] = 0;

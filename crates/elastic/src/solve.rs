@@ -295,7 +295,7 @@ fn solve(
             });
         }
     }
-    if bc.prescribed.is_empty() && bc.sliding.is_empty() {
+    if bc.prescribed.is_empty() && bc.sliding.is_empty() && bc.along_line.is_empty() {
         return Err(ElasticError::NoDirichlet);
     }
     let start = Instant::now();

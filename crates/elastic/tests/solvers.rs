@@ -502,3 +502,74 @@ fn cg_started_near_the_solution_reaches_it_in_fewer_iterations() {
         );
     }
 }
+
+#[test]
+fn nodes_where_two_sliding_planes_meet_move_along_their_line() {
+    // As above, with each node on two symmetry planes held to their common line and the
+    // corner on three fixed: the same exact solution, and line nodes move along the line.
+    let material = Material::default();
+    let (eps, nu) = (0.01, material.poisson);
+    let exact = |x: [f64; 3]| [eps * x[0], -nu * eps * x[1], -nu * eps * x[2]];
+    for fill in [Fill::Tet(Kuhn::Paired), Fill::HexPrism] {
+        let mesh = high_order(&unit_cube(2, fill, 0.2), 3, NodeFamily::Fekete);
+        let mut bc = BoundaryConditions::default();
+        for n in boundary_nodes(&mesh).unwrap() {
+            let x = mesh.nodes[n as usize];
+            let planes: Vec<usize> = (0..3).filter(|&d| x[d].abs() < 1e-12).collect();
+            if (x[0] - 1.0).abs() < 1e-12 {
+                bc.prescribed.insert(n, exact(x));
+            } else if planes.len() == 3 {
+                bc.prescribed.insert(n, [0.0; 3]);
+            } else if planes.len() == 2 {
+                let free = 3 - planes[0] - planes[1];
+                let mut direction = [0.0; 3];
+                direction[free] = 0.5;
+                bc.along_line.insert(n, direction);
+                // A sliding entry too: the line takes precedence.
+                bc.sliding.insert(n, [1.0, 0.0, 0.0]);
+            } else if planes.len() == 1 {
+                let mut normal = [0.0; 3];
+                normal[planes[0]] = 1.0;
+                bc.sliding.insert(n, normal);
+            }
+        }
+        for kind in [SolverKind::Direct, SolverKind::Cg] {
+            let options = SolverOptions {
+                kind,
+                tolerance: 1e-13,
+                ..Default::default()
+            };
+            let solution = solve_displacement(&mesh, &material, &bc, &options).unwrap();
+            for (n, (x, u)) in mesh.nodes.iter().zip(&solution.displacement).enumerate() {
+                let e = exact(*x);
+                for d in 0..3 {
+                    assert!(
+                        (u[d] - e[d]).abs() < 1e-12,
+                        "{fill:?} {kind:?} at {x:?}: {u:?}"
+                    );
+                }
+                if let Some(t) = bc.along_line.get(&(n as u32)) {
+                    let off: f64 = (0..3).filter(|&d| t[d] == 0.0).map(|d| u[d].abs()).sum();
+                    assert_eq!(off, 0.0, "{fill:?} {kind:?}: {u:?} along {t:?}");
+                }
+            }
+        }
+    }
+    // A zero direction is an error, not a fixed node.
+    let mesh = high_order(
+        &unit_cube(1, Fill::Tet(Kuhn::Paired), 0.0),
+        1,
+        NodeFamily::Fekete,
+    );
+    let mut bc = BoundaryConditions::default();
+    bc.prescribed.insert(0, [0.0; 3]);
+    bc.along_line.insert(1, [0.0; 3]);
+    let result = solve_displacement(&mesh, &Material::default(), &bc, &SolverOptions::default());
+    assert!(
+        matches!(
+            result,
+            Err(ElasticError::InvalidBoundaryValue { node: 1, .. })
+        ),
+        "{result:?}"
+    );
+}
