@@ -405,7 +405,7 @@ fn sliding_groups_keep_their_nodes_in_their_plane_and_move_them_along_it() {
 }
 
 /// The extruded boundary layer of `fixtures/cad/cylinder_layers` (hexahedra and prisms,
-/// first height 1e-3, the end planes z = 0 and z = 1 one group "ends"): the end planes
+/// first height 1e-4, stretch 2300, the end planes z = 0 and z = 1 one group "ends"): the end planes
 /// slide by default, which keeps every element valid; held fixed, the cells at the wall's
 /// ends fold.
 #[test]
