@@ -43,7 +43,16 @@ pub(crate) struct CellRuns {
 impl CellRuns {
     /// The runs of `mesh`, whose cells all have `n` nodes (checked by the caller).
     pub fn new(mesh: &HighOrderMesh, n: usize) -> Self {
-        let order = morton_order(mesh);
+        Self::of(mesh, morton_order(mesh, |_| true), n)
+    }
+
+    /// The runs of the cells of `mesh` of shape `shape`, which have `n` nodes.
+    pub fn of_shape(mesh: &HighOrderMesh, shape: hocurve_nodes::Shape, n: usize) -> Self {
+        Self::of(mesh, morton_order(mesh, |c| c.kind == shape), n)
+    }
+
+    /// The runs of the cells `order` of `mesh`, in that order.
+    fn of(mesh: &HighOrderMesh, order: Vec<u32>, n: usize) -> Self {
         let run_length = (usize::from(u16::MAX) / n.max(1)).clamp(1, CELLS_PER_RUN);
         let (mut run_start, mut run_nodes, mut local) = (vec![0], Vec::new(), Vec::new());
         let mut distinct = Vec::new();
@@ -123,9 +132,13 @@ impl CellRuns {
     }
 }
 
-/// The cells of `mesh` sorted by the Morton code (bit-interleaved coordinates, 21 bits per
-/// axis in the bounding box) of their first vertices' centroid, ties by index.
-fn morton_order(mesh: &HighOrderMesh) -> Vec<u32> {
+/// The cells of `mesh` that `keep` keeps, sorted by the Morton code (bit-interleaved
+/// coordinates, 21 bits per axis in the bounding box) of their first vertices' centroid,
+/// ties by index.
+fn morton_order(
+    mesh: &HighOrderMesh,
+    keep: impl Fn(&hocurve_mesh::HighOrderElement) -> bool + Sync,
+) -> Vec<u32> {
     let nv = mesh.dim + 1;
     let (mut low, mut high) = ([f64::MAX; 3], [f64::MIN; 3]);
     for x in &mesh.nodes {
@@ -150,6 +163,7 @@ fn morton_order(mesh: &HighOrderMesh) -> Vec<u32> {
         .cells
         .par_iter()
         .enumerate()
+        .filter(|(_, cell)| keep(cell))
         .map(|(c, cell)| {
             let mut x = [0.0; 3];
             for &v in cell.nodes.iter().take(nv) {

@@ -22,7 +22,6 @@ use std::sync::atomic::AtomicU64;
 
 use faer::{Mat, Side};
 use hocurve_mesh::HighOrderMesh;
-use hocurve_nodes::Shape;
 use rayon::prelude::*;
 
 use crate::block_jacobi::{block_offsets, BlockJacobi};
@@ -44,7 +43,6 @@ const LANES: usize = 8;
 /// The factors R_α of one simplex's reference stiffness matrices: S_αβ = R_αᵀ R_β.
 #[derive(Debug, Clone)]
 pub(crate) struct ReferenceGradients {
-    dim: usize,
     /// Nodes n.
     n: usize,
     /// Rank m (the dimension of P_(p−1)).
@@ -58,8 +56,11 @@ pub(crate) struct ReferenceGradients {
     /// orders let the two products of the action accumulate [`LANES`] outputs in registers
     /// along unit-stride rows.
     transposed: Vec<f64>,
-    /// S_αβ[a][b] at `(α dim + β) n² + a n + b` (for the diagonal blocks).
+    /// S_αβ[a][b] at `(α dim + β) n² + a n + b` (for the diagonal blocks; simplices).
     stiffness: Vec<Vec<f64>>,
+    /// The modes k are quadrature points with their own J⁻¹ and |det J| (non-affine
+    /// shapes), rather than one J⁻¹ for the cell.
+    per_point: bool,
 }
 
 impl ReferenceGradients {
@@ -102,6 +103,38 @@ impl ReferenceGradients {
                 }
             }
         }
+        Ok(Self::packed(dim, n, m, &factors, s.clone(), false))
+    }
+
+    /// The factors of a shape whose cells are not affine (quadrilaterals, hexahedra,
+    /// prisms): R_α[q][b] = √w_q ∂Φ_b/∂ξ_α(ξ_q) at the points of the degree-2p rule that
+    /// assembly integrates with, so that Σ_q R_α[q]ᵀ c_q R_β[q] is that rule's sum; J⁻¹ and
+    /// |det J| then vary with q (`per_point`).
+    pub fn at_quadrature(reference: &ReferenceStiffness) -> Self {
+        let (dim, n) = (reference.dim, reference.len);
+        let rule = &reference.stiffness_rule;
+        let m = rule.len();
+        let mut factors = vec![0.0; dim * m * n];
+        for q in 0..m {
+            let root = rule.weights()[q].sqrt();
+            for (b, g) in rule.gradients(q).iter().enumerate() {
+                for alpha in 0..dim {
+                    factors[(alpha * m + q) * n + b] = root * g[alpha];
+                }
+            }
+        }
+        Self::packed(dim, n, m, &factors, Vec::new(), true)
+    }
+
+    /// The padded and transposed copies of `factors` (R_α[k][b] at `(α m + k) n + b`).
+    fn packed(
+        dim: usize,
+        n: usize,
+        m: usize,
+        factors: &[f64],
+        stiffness: Vec<Vec<f64>>,
+        per_point: bool,
+    ) -> Self {
         let rows = dim * m;
         let rows_padded = rows.div_ceil(LANES) * LANES;
         let n_padded = n.div_ceil(LANES) * LANES;
@@ -113,16 +146,22 @@ impl ReferenceGradients {
                 padded[i * n_padded + b] = factors[i * n + b];
             }
         }
-        Ok(ReferenceGradients {
-            dim,
+        ReferenceGradients {
             n,
             m,
             rows_padded,
             n_padded,
             factors: padded,
             transposed,
-            stiffness: s.clone(),
-        })
+            stiffness,
+            per_point,
+        }
+    }
+
+    /// R_α[k][b].
+    #[inline]
+    fn factor_at(&self, alpha: usize, k: usize, b: usize) -> f64 {
+        self.factors[(alpha * self.m + k) * self.n_padded + b]
     }
 
     /// The rank m.
@@ -134,51 +173,56 @@ impl ReferenceGradients {
     /// R_α[k][b].
     #[cfg(test)]
     pub fn factor(&self, alpha: usize, k: usize, b: usize) -> f64 {
-        self.factors[(alpha * self.m + k) * self.n_padded + b]
+        self.factor_at(alpha, k, b)
     }
 }
 
-/// Tᵀ K T of a mesh of straight simplices, applied cell by cell.
+/// The cells of one shape: their factors, runs and geometry.
+struct ShapePart {
+    reference: ReferenceGradients,
+    /// The part's cells in coloured runs; `geometry` follows their order.
+    runs: CellRuns,
+    /// Per cell (affine simplices), or per cell and quadrature point (`reference.per_point`,
+    /// at `cell · m + q`): J⁻¹ (`inv[α][c]` at 3α + c) and |det J| times the cell's
+    /// stiffening.
+    geometry: Vec<[f64; 10]>,
+    /// The [`ReducedNodes::slot`] of each of [`CellRuns::run_nodes`].
+    slots: Vec<u32>,
+}
+
+/// Tᵀ K T of a mesh of straight-sided cells, applied cell by cell: affine simplices from
+/// their reference factors, other shapes (quadrilaterals, hexahedra, prisms) from the
+/// gradients at their quadrature points.
 pub(crate) struct MatrixFreeStiffness {
     dim: usize,
-    reference: ReferenceGradients,
-    /// The cells in coloured runs; `geometry` follows their order.
-    runs: CellRuns,
-    /// Per cell: J⁻¹ (`inv[α][c]` at 3α + c) and |det J| times the cell's stiffening.
-    geometry: Vec<[f64; 10]>,
+    /// One per shape present, in shape order.
+    parts: Vec<ShapePart>,
     lambda: f64,
     mu: f64,
     nodes: ReducedNodes,
-    /// The [`ReducedNodes::slot`] of each of [`CellRuns::run_nodes`].
-    slots: Vec<u32>,
     /// Whether the CPU has AVX2 (for [`MatrixFreeStiffness::cell_action`]).
     avx2: bool,
     sums: SharedSum,
 }
 
 impl MatrixFreeStiffness {
-    /// Whether every cell of `mesh` is a straight-sided simplex of the mesh's dimension,
-    /// all of one shape (what [`MatrixFreeStiffness::new`] takes).
+    /// Whether [`MatrixFreeStiffness::new`] takes `mesh`: cells of the mesh's dimension,
+    /// with the right node counts, every simplex straight-sided (affine); quadrilaterals,
+    /// hexahedra and prisms of any straight or curved shape.
     pub fn applies(mesh: &HighOrderMesh) -> bool {
-        let shape = match mesh.dim {
-            2 => Shape::Tri,
-            3 => Shape::Tet,
-            _ => return false,
-        };
-        if mesh.cells.iter().any(|c| c.kind != shape) || mesh.cells.is_empty() {
+        if mesh.cells.is_empty() || !matches!(mesh.dim, 2 | 3) {
             return false;
         }
-        let Ok(reference) = ReferenceStiffness::new(shape, mesh.order, mesh.family) else {
+        let Ok(references) = ReferenceStiffness::for_mesh(mesh) else {
             return false;
         };
         mesh.cells.par_iter().all(|cell| {
-            cell.nodes.len() == reference.len
-                && cell.nodes.iter().all(|&n| (n as usize) < mesh.nodes.len())
-                && {
-                    let coords: Vec<[f64; 3]> =
-                        cell.nodes.iter().map(|&n| mesh.nodes[n as usize]).collect();
-                    reference.is_affine_simplex(&coords)
-                }
+            let reference = &references[&cell.kind];
+            reference.simplex_stiffness.is_none() || {
+                let coords: Vec<[f64; 3]> =
+                    cell.nodes.iter().map(|&n| mesh.nodes[n as usize]).collect();
+                reference.is_affine_simplex(&coords)
+            }
         })
     }
 
@@ -192,49 +236,7 @@ impl MatrixFreeStiffness {
     ) -> Result<Self, ElasticError> {
         material.validate()?;
         let dim = mesh.dim;
-        let shape = if dim == 2 { Shape::Tri } else { Shape::Tet };
-        let stiffness = ReferenceStiffness::new(shape, mesh.order, mesh.family)?;
-        let reference = ReferenceGradients::new(&stiffness)?;
-        let n = stiffness.len;
-        for (c, cell) in mesh.cells.iter().enumerate() {
-            if cell.nodes.len() != n || cell.kind != shape {
-                return Err(ElasticError::WrongNodeCount {
-                    cell: c,
-                    found: cell.nodes.len(),
-                    expected: n,
-                });
-            }
-        }
-        let runs = CellRuns::new(mesh, n);
-        let geometry = runs
-            .order
-            .par_iter()
-            .map(|&c| {
-                let c = c as usize;
-                let cell = &mesh.cells[c];
-                let vertex = |v: usize| mesh.nodes[cell.nodes[v] as usize];
-                let mut jac = [[0.0; 3]; 3];
-                for alpha in 0..dim {
-                    for d in 0..dim {
-                        jac[d][alpha] = vertex(alpha + 1)[d] - vertex(0)[d];
-                    }
-                }
-                let (inv, det) = invert_jacobian(&jac, dim);
-                if !det.is_finite() || det == 0.0 {
-                    return Err(ElasticError::DegenerateCell {
-                        cell: c,
-                        jacobian: det,
-                    });
-                }
-                let mut g = [0.0; 10];
-                for alpha in 0..3 {
-                    g[3 * alpha..3 * alpha + 3].copy_from_slice(&inv[alpha]);
-                }
-                g[9] = det.abs() * stiffening.map_or(1.0, |s| s[c]);
-                Ok(g)
-            })
-            .collect::<Result<Vec<_>, _>>()?;
-        let (lambda, mu) = material.lame();
+        let references = ReferenceStiffness::for_mesh(mesh)?;
         let nodes = ReducedNodes::new(constraints);
         if !nodes.slots_fit() {
             return Err(ElasticError::Factorization {
@@ -242,20 +244,71 @@ impl MatrixFreeStiffness {
                 message: format!("{} unknowns do not fit 31-bit indices", nodes.len()),
             });
         }
-        let slots = runs
-            .run_nodes()
-            .par_iter()
-            .map(|&v| nodes.slot(v as usize))
-            .collect();
+        let mut parts = Vec::new();
+        for (&shape, stiffness) in &references {
+            let reference = match stiffness.simplex_stiffness {
+                Some(_) => ReferenceGradients::new(stiffness)?,
+                None => ReferenceGradients::at_quadrature(stiffness),
+            };
+            let runs = CellRuns::of_shape(mesh, shape, stiffness.len);
+            let m = reference.m;
+            let geometry: Vec<[f64; 10]> = if reference.per_point {
+                let rule = &stiffness.stiffness_rule;
+                runs.order
+                    .par_iter()
+                    .map(|&c| {
+                        let c = c as usize;
+                        let coords: Vec<[f64; 3]> = mesh.cells[c]
+                            .nodes
+                            .iter()
+                            .map(|&v| mesh.nodes[v as usize])
+                            .collect();
+                        (0..m)
+                            .map(|q| {
+                                let (inv, det) = invert_jacobian(&rule.jacobian(&coords, q), dim);
+                                packed_geometry(inv, det, c, stiffening)
+                            })
+                            .collect::<Result<Vec<_>, _>>()
+                    })
+                    .collect::<Result<Vec<_>, _>>()?
+                    .concat()
+            } else {
+                runs.order
+                    .par_iter()
+                    .map(|&c| {
+                        let c = c as usize;
+                        let cell = &mesh.cells[c];
+                        let vertex = |v: usize| mesh.nodes[cell.nodes[v] as usize];
+                        let mut jac = [[0.0; 3]; 3];
+                        for alpha in 0..dim {
+                            for d in 0..dim {
+                                jac[d][alpha] = vertex(alpha + 1)[d] - vertex(0)[d];
+                            }
+                        }
+                        let (inv, det) = invert_jacobian(&jac, dim);
+                        packed_geometry(inv, det, c, stiffening)
+                    })
+                    .collect::<Result<Vec<_>, _>>()?
+            };
+            let slots = runs
+                .run_nodes()
+                .par_iter()
+                .map(|&v| nodes.slot(v as usize))
+                .collect();
+            parts.push(ShapePart {
+                reference,
+                runs,
+                geometry,
+                slots,
+            });
+        }
+        let (lambda, mu) = material.lame();
         Ok(MatrixFreeStiffness {
             dim,
-            reference,
-            runs,
-            geometry,
+            parts,
             lambda,
             mu,
             nodes,
-            slots,
             #[cfg(target_arch = "x86_64")]
             avx2: std::arch::is_x86_feature_detected!("avx2"),
             #[cfg(not(target_arch = "x86_64"))]
@@ -275,10 +328,9 @@ impl MatrixFreeStiffness {
         let dim = self.dim;
         let u = &constraints.prescribed;
         let mut out = vec![0.0; self.len()];
-        let run_nodes = self.runs.run_nodes();
         self.accumulate(
-            |i| {
-                let node = run_nodes[i] as usize;
+            |part, i| {
+                let node = part.runs.run_nodes()[i] as usize;
                 let mut v = [0.0; 3];
                 if self.nodes.is_fixed(node) {
                     (0..dim).for_each(|d| v[d] = u[node * dim + d]);
@@ -292,111 +344,133 @@ impl MatrixFreeStiffness {
         out
     }
 
-    /// y = Σ over cells of Tᵀ K_e x_e, the displacement of each cell node from `gather(i)`,
-    /// i its place in [`CellRuns::run_nodes`].
-    /// `source` is the vector `gather` reads (for prefetching; empty if none).
-    fn accumulate(&self, gather: impl Fn(usize) -> [f64; 3] + Sync, source: &[f64], y: &mut [f64]) {
-        let (n, n_padded, dim) = (self.reference.n, self.reference.n_padded, self.dim);
+    /// y = Σ over cells of Tᵀ K_e x_e, the displacement of each cell node from
+    /// `gather(part, i)`, i its place in the part's [`CellRuns::run_nodes`]; the parts one
+    /// after the other. `source` is the vector `gather` reads (for prefetching; empty if
+    /// none).
+    fn accumulate(
+        &self,
+        gather: impl Fn(&ShapePart, usize) -> [f64; 3] + Sync,
+        source: &[f64],
+        y: &mut [f64],
+    ) {
+        let dim = self.dim;
         self.sums.collect(y, |sums| {
-            self.runs
-                .for_each_run(CellScratch::default, |scratch, run| {
-                    let range = self.runs.run_range(run);
-                    let len = range.len();
-                    // The run's nodal values (component d of its node j at d len + j) and results.
-                    scratch.run_x.resize(dim * len, 0.0);
-                    scratch.run_y.clear();
-                    scratch.run_y.resize(dim * len, 0.0);
-                    for (j, i) in range.clone().enumerate() {
-                        if let Some(&ahead) = self.slots.get(i + PREFETCH_AHEAD) {
-                            if let Some(f) = self.nodes.first_of_slot(ahead) {
-                                prefetch(source, f);
+            for part in &self.parts {
+                let (n, n_padded) = (part.reference.n, part.reference.n_padded);
+                part.runs
+                    .for_each_run(CellScratch::default, |scratch, run| {
+                        let range = part.runs.run_range(run);
+                        let len = range.len();
+                        // The run's nodal values (component d of its node j at d len + j) and
+                        // results.
+                        scratch.run_x.resize(dim * len, 0.0);
+                        scratch.run_y.clear();
+                        scratch.run_y.resize(dim * len, 0.0);
+                        for (j, i) in range.clone().enumerate() {
+                            if let Some(&ahead) = part.slots.get(i + PREFETCH_AHEAD) {
+                                if let Some(f) = self.nodes.first_of_slot(ahead) {
+                                    prefetch(source, f);
+                                }
                             }
-                        }
-                        let v = gather(i);
-                        for d in 0..dim {
-                            scratch.run_x[d * len + j] = v[d];
-                        }
-                    }
-                    for c in self.runs.cells_of_run(run) {
-                        let local = self.runs.local(c);
-                        // Every entry is overwritten.
-                        scratch.x.resize(dim * n, 0.0);
-                        for (a, &j) in local.iter().enumerate() {
+                            let v = gather(part, i);
                             for d in 0..dim {
-                                scratch.x[d * n + a] = scratch.run_x[d * len + j as usize];
+                                scratch.run_x[d * len + j] = v[d];
                             }
                         }
-                        self.cell_action(c, scratch);
-                        for (a, &j) in local.iter().enumerate() {
-                            for d in 0..dim {
-                                scratch.run_y[d * len + j as usize] += scratch.y[d * n_padded + a];
+                        for c in part.runs.cells_of_run(run) {
+                            let local = part.runs.local(c);
+                            // Every entry is overwritten.
+                            scratch.x.resize(dim * n, 0.0);
+                            for (a, &j) in local.iter().enumerate() {
+                                for d in 0..dim {
+                                    scratch.x[d * n + a] = scratch.run_x[d * len + j as usize];
+                                }
+                            }
+                            self.cell_action(part, c, scratch);
+                            for (a, &j) in local.iter().enumerate() {
+                                for d in 0..dim {
+                                    scratch.run_y[d * len + j as usize] +=
+                                        scratch.y[d * n_padded + a];
+                                }
                             }
                         }
-                    }
-                    for (j, &slot) in self.slots[range.clone()].iter().enumerate() {
-                        if let Some(&ahead) = self.slots.get(range.start + j + PREFETCH_AHEAD) {
-                            if let Some(f) = self.nodes.first_of_slot(ahead) {
-                                sums.prefetch(f);
+                        for (j, &slot) in part.slots[range.clone()].iter().enumerate() {
+                            if let Some(&ahead) = part.slots.get(range.start + j + PREFETCH_AHEAD) {
+                                if let Some(f) = self.nodes.first_of_slot(ahead) {
+                                    sums.prefetch(f);
+                                }
                             }
+                            let mut v = [0.0; 3];
+                            (0..dim).for_each(|d| v[d] = scratch.run_y[d * len + j]);
+                            self.nodes
+                                .restrict_slot(slot, v, |i, value| sums.add(i, value));
                         }
-                        let mut v = [0.0; 3];
-                        (0..dim).for_each(|d| v[d] = scratch.run_y[d * len + j]);
-                        self.nodes
-                            .restrict_slot(slot, v, |i, value| sums.add(i, value));
-                    }
-                });
+                    });
+            }
         });
     }
 
-    /// scratch.y = K_c scratch.x for cell c (module documentation); both hold component d
-    /// of node b at `d n + b`. With AVX2 where the CPU has it: the same operations in the
-    /// same order (no fused multiply-add), so the same bits, on 4 lanes instead of 2.
-    fn cell_action(&self, c: usize, scratch: &mut CellScratch) {
+    /// scratch.y = K_c scratch.x for the cell at position c of `part` (module
+    /// documentation); both hold component d of node b at `d n + b`. With AVX2 where the
+    /// CPU has it: the same operations in the same order (no fused multiply-add), so the
+    /// same bits, on 4 lanes instead of 2.
+    fn cell_action(&self, part: &ShapePart, c: usize, scratch: &mut CellScratch) {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` is set only when the running CPU reports AVX2.
-            unsafe { self.cell_action_avx2(c, scratch) };
+            unsafe { self.cell_action_avx2(part, c, scratch) };
             return;
         }
-        self.cell_action_body(c, scratch);
+        self.cell_action_body(part, c, scratch);
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    unsafe fn cell_action_avx2(&self, c: usize, scratch: &mut CellScratch) {
-        self.cell_action_body(c, scratch);
+    unsafe fn cell_action_avx2(&self, part: &ShapePart, c: usize, scratch: &mut CellScratch) {
+        self.cell_action_body(part, c, scratch);
     }
 
     #[inline(always)]
-    fn cell_action_body(&self, c: usize, scratch: &mut CellScratch) {
-        if self.dim == 2 {
-            self.cell_action_in::<2>(c, scratch);
-        } else {
-            self.cell_action_in::<3>(c, scratch);
+    fn cell_action_body(&self, part: &ShapePart, c: usize, scratch: &mut CellScratch) {
+        match (self.dim, part.reference.per_point) {
+            (2, false) => self.cell_action_in::<2, false>(part, c, scratch),
+            (2, true) => self.cell_action_in::<2, true>(part, c, scratch),
+            (_, false) => self.cell_action_in::<3, false>(part, c, scratch),
+            (_, true) => self.cell_action_in::<3, true>(part, c, scratch),
         }
     }
 
     /// The cell action in dimension D (a constant, so that the accumulators stay in
-    /// registers).
+    /// registers), with one J⁻¹ per mode when PER_POINT.
     #[inline(always)]
-    fn cell_action_in<const D: usize>(&self, c: usize, scratch: &mut CellScratch) {
+    fn cell_action_in<const D: usize, const PER_POINT: bool>(
+        &self,
+        part: &ShapePart,
+        c: usize,
+        scratch: &mut CellScratch,
+    ) {
         let ReferenceGradients {
             n,
             m,
             rows_padded,
             n_padded,
             ..
-        } = self.reference;
+        } = part.reference;
         let rows = D * m;
-        let g = &self.geometry[c];
-        let inv = |alpha: usize, d: usize| g[3 * alpha + d];
-        let w = g[9];
         let CellScratch { x, y, modes, .. } = scratch;
         // U_d[α m + k] = Σ_b R_α[k][b] X_d[b], LANES of (α, k) at a time.
         modes.resize(D * rows_padded, 0.0);
-        lane_products::<D>(&self.reference.transposed, x, n, n, modes, rows_padded);
+        lane_products::<D>(&part.reference.transposed, x, n, n, modes, rows_padded);
         // Per mode: ∇u[d][c] = ∂u_d/∂x_c, the stress, and back to reference directions.
         for k in 0..m {
+            let g = if PER_POINT {
+                &part.geometry[c * m + k]
+            } else {
+                &part.geometry[c]
+            };
+            let inv = |alpha: usize, d: usize| g[3 * alpha + d];
+            let w = g[9];
             let mut grad = [[0.0; 3]; 3];
             for alpha in 0..D {
                 for d in 0..D {
@@ -424,7 +498,7 @@ impl MatrixFreeStiffness {
         // Y_d[b] = Σ_(α, k) R_α[k][b] V_d[α m + k], LANES of b at a time.
         y.resize(D * n_padded, 0.0);
         lane_products::<D>(
-            &self.reference.factors,
+            &part.reference.factors,
             modes,
             rows_padded,
             rows,
@@ -434,7 +508,8 @@ impl MatrixFreeStiffness {
     }
 
     /// Block Jacobi over the reduced dof ranges `cuts` (each a whole number of nodes): the
-    /// diagonal blocks of Tᵀ K T summed cell by cell from the reference matrices.
+    /// diagonal blocks of Tᵀ K T summed cell by cell, from the reference matrices (affine
+    /// simplices) or the quadrature points' gradients.
     pub fn block_jacobi(&self, cuts: &[usize]) -> BlockJacobi {
         let nodes = self.nodes.nodes();
         let first = self.nodes.first();
@@ -456,74 +531,109 @@ impl MatrixFreeStiffness {
             .map(|_| AtomicU64::new(0))
             .collect();
         let add = |slot: usize, value: f64| add_to(&dense[slot], value);
-        let ReferenceGradients { dim, n, .. } = self.reference;
-        let s = &self.reference.stiffness;
-        let (lambda, mu) = (self.lambda, self.mu);
-        self.runs.for_each_run(Vec::new, |nodes, run| {
-            let distinct = self.runs.nodes_of_run(run);
-            for c in self.runs.cells_of_run(run) {
-                nodes.clear();
-                nodes.extend(self.runs.local(c).iter().map(|&j| distinct[j as usize]));
-                let g = &self.geometry[c];
-                for (a, &na) in nodes.iter().enumerate() {
-                    let na = na as usize;
-                    let block = block_of[na];
-                    if block == u32::MAX {
-                        continue;
+        let (lambda, mu, dim) = (self.lambda, self.mu, self.dim);
+        for part in &self.parts {
+            let ReferenceGradients { n, m, .. } = part.reference;
+            // Σ_k over the modes of |det J| J⁻ᵀ R_α[k][a] R_β[k][b] J⁻¹ (per point), or
+            // |det J| J⁻ᵀ S_αβ[a][b] J⁻¹ (affine).
+            let g_matrix = |c: usize, a: usize, bb: usize| {
+                let mut gm = [[0.0; 3]; 3];
+                let mut add_mode = |g: &[f64; 10], t: &[[f64; 3]; 3]| {
+                    for cc in 0..dim {
+                        for d in 0..dim {
+                            let mut sum = 0.0;
+                            for alpha in 0..dim {
+                                for beta in 0..dim {
+                                    sum += g[3 * alpha + cc] * t[alpha][beta] * g[3 * beta + d];
+                                }
+                            }
+                            gm[cc][d] += g[9] * sum;
+                        }
                     }
-                    let start = cuts[block as usize];
-                    let k = cuts[block as usize + 1] - start;
-                    for (bb, &nb) in nodes.iter().enumerate() {
-                        let nb = nb as usize;
-                        if block_of[nb] != block {
+                };
+                let mut t = [[0.0; 3]; 3];
+                if part.reference.per_point {
+                    // Per point, G += |det J| (J⁻ᵀ R[k][a]) (J⁻ᵀ R[k][b])ᵀ: the physical
+                    // gradients first (a third of the work of the sandwich above).
+                    for k in 0..m {
+                        let g = &part.geometry[c * m + k];
+                        let physical = |node: usize| {
+                            let mut v = [0.0; 3];
+                            for (cc, vc) in v.iter_mut().enumerate().take(dim) {
+                                *vc = (0..dim)
+                                    .map(|alpha| {
+                                        g[3 * alpha + cc] * part.reference.factor_at(alpha, k, node)
+                                    })
+                                    .sum();
+                            }
+                            v
+                        };
+                        let (ga, gb) = (physical(a), physical(bb));
+                        for cc in 0..dim {
+                            for d in 0..dim {
+                                gm[cc][d] += g[9] * ga[cc] * gb[d];
+                            }
+                        }
+                    }
+                } else {
+                    let s = &part.reference.stiffness;
+                    for alpha in 0..dim {
+                        for beta in 0..dim {
+                            t[alpha][beta] = s[alpha * dim + beta][a * n + bb];
+                        }
+                    }
+                    add_mode(&part.geometry[c], &t);
+                }
+                gm
+            };
+            part.runs.for_each_run(Vec::new, |nodes, run| {
+                let distinct = part.runs.nodes_of_run(run);
+                for c in part.runs.cells_of_run(run) {
+                    nodes.clear();
+                    nodes.extend(part.runs.local(c).iter().map(|&j| distinct[j as usize]));
+                    for (a, &na) in nodes.iter().enumerate() {
+                        let na = na as usize;
+                        let block = block_of[na];
+                        if block == u32::MAX {
                             continue;
                         }
-                        // G = |det J| J⁻ᵀ [S_αβ[a][bb]] J⁻¹, K_ab = λ G + μ Gᵀ + μ tr G I.
-                        let mut t = [[0.0; 3]; 3];
-                        for alpha in 0..dim {
-                            for beta in 0..dim {
-                                t[alpha][beta] = s[alpha * dim + beta][a * n + bb];
+                        let start = cuts[block as usize];
+                        let k = cuts[block as usize + 1] - start;
+                        for (bb, &nb) in nodes.iter().enumerate() {
+                            let nb = nb as usize;
+                            if block_of[nb] != block {
+                                continue;
                             }
-                        }
-                        let mut gm = [[0.0; 3]; 3];
-                        for cc in 0..dim {
-                            for d in 0..dim {
-                                let mut sum = 0.0;
-                                for alpha in 0..dim {
-                                    for beta in 0..dim {
-                                        sum += g[3 * alpha + cc] * t[alpha][beta] * g[3 * beta + d];
-                                    }
+                            // K_ab = λ G + μ Gᵀ + μ tr G I.
+                            let gm = g_matrix(c, a, bb);
+                            let trace: f64 = (0..dim).map(|d| gm[d][d]).sum();
+                            let mut kab = [[0.0; 3]; 3];
+                            for cc in 0..dim {
+                                for d in 0..dim {
+                                    kab[cc][d] = lambda * gm[cc][d] + mu * gm[d][cc];
                                 }
-                                gm[cc][d] = g[9] * sum;
+                                kab[cc][cc] += mu * trace;
                             }
-                        }
-                        let trace: f64 = (0..dim).map(|d| gm[d][d]).sum();
-                        let mut kab = [[0.0; 3]; 3];
-                        for cc in 0..dim {
-                            for d in 0..dim {
-                                kab[cc][d] = lambda * gm[cc][d] + mu * gm[d][cc];
-                            }
-                            kab[cc][cc] += mu * trace;
-                        }
-                        let (qa, ka) = self.nodes.directions(na);
-                        let (qb, kb) = self.nodes.directions(nb);
-                        let (rows, cols) = (&qa[..ka], &qb[..kb]);
-                        let (ra, rb) = (first[na] - start, first[nb] - start);
-                        for (i, qi) in rows.iter().enumerate() {
-                            for (j, qj) in cols.iter().enumerate() {
-                                let mut v = 0.0;
-                                for cc in 0..dim {
-                                    for d in 0..dim {
-                                        v += qi[cc] * kab[cc][d] * qj[d];
+                            let (qa, ka) = self.nodes.directions(na);
+                            let (qb, kb) = self.nodes.directions(nb);
+                            let (rows, cols) = (&qa[..ka], &qb[..kb]);
+                            let (ra, rb) = (first[na] - start, first[nb] - start);
+                            for (i, qi) in rows.iter().enumerate() {
+                                for (j, qj) in cols.iter().enumerate() {
+                                    let mut v = 0.0;
+                                    for cc in 0..dim {
+                                        for d in 0..dim {
+                                            v += qi[cc] * kab[cc][d] * qj[d];
+                                        }
                                     }
+                                    add(offsets[block as usize] + (ra + i) * k + rb + j, v);
                                 }
-                                add(offsets[block as usize] + (ra + i) * k + rb + j, v);
                             }
                         }
                     }
                 }
-            }
-        });
+            });
+        }
         let dense: Vec<f64> = dense
             .into_iter()
             .map(|v| f64::from_bits(v.into_inner()))
@@ -532,9 +642,30 @@ impl MatrixFreeStiffness {
     }
 }
 
+/// J⁻¹ and |det J| times cell c's stiffening, packed; an error for a singular map.
+fn packed_geometry(
+    inv: [[f64; 3]; 3],
+    det: f64,
+    c: usize,
+    stiffening: Option<&[f64]>,
+) -> Result<[f64; 10], ElasticError> {
+    if !det.is_finite() || det == 0.0 {
+        return Err(ElasticError::DegenerateCell {
+            cell: c,
+            jacobian: det,
+        });
+    }
+    let mut g = [0.0; 10];
+    for alpha in 0..3 {
+        g[3 * alpha..3 * alpha + 3].copy_from_slice(&inv[alpha]);
+    }
+    g[9] = det.abs() * stiffening.map_or(1.0, |s| s[c]);
+    Ok(g)
+}
+
 impl LinearOperator for MatrixFreeStiffness {
     fn apply(&self, x: &[f64], y: &mut [f64]) {
-        self.accumulate(|i| self.nodes.expand_slot(self.slots[i], x), x, y);
+        self.accumulate(|part, i| self.nodes.expand_slot(part.slots[i], x), x, y);
     }
 }
 

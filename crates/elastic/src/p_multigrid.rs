@@ -339,11 +339,12 @@ impl<'a> PMultigrid<'a> {
             }
             level_meshes.push(level);
         }
-        // Between matrix-free levels (simplices), cell by cell; else as sparse matrices.
+        // Between matrix-free levels of one shape, cell by cell; else as sparse matrices.
+        let one_shape = mesh.cells.windows(2).all(|w| w[0].kind == w[1].kind);
         let mut transfers = level_meshes
             .windows(2)
             .map(|pair| {
-                if matrix_free {
+                if matrix_free && one_shape {
                     let (fine, coarse) = (&pair[0], &pair[1]);
                     let transfer = CellTransfer::new(
                         &fine.mesh,

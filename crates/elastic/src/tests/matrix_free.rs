@@ -5,6 +5,7 @@ use crate::vector_ops::spmv;
 use crate::BoundaryConditions;
 use hocurve_mesh::LinearMesh;
 use hocurve_nodes::NodeFamily;
+use hocurve_nodes::Shape;
 
 /// dim P_(p−1) in `dim` dimensions.
 fn gradient_space(dim: usize, p: usize) -> usize {
@@ -42,6 +43,28 @@ fn reference_factors_have_the_rank_of_the_gradient_space_and_reproduce_the_refer
             }
         }
     }
+}
+
+/// The unit square in 3 × 3 quadrilaterals, the middle column split into triangles.
+fn mixed_square() -> LinearMesh {
+    use hocurve_mesh::{Element, Shape};
+    let mut mesh = hocurve_testmeshes::unit_square(3, Shape::Quad, 0.0);
+    let cells = std::mem::take(&mut mesh.cells);
+    for (c, cell) in cells.into_iter().enumerate() {
+        if c % 3 == 1 {
+            let v = &cell.vertices;
+            for tri in [[v[0], v[1], v[2]], [v[0], v[2], v[3]]] {
+                mesh.cells.push(Element {
+                    kind: Shape::Tri,
+                    vertices: tri.to_vec(),
+                    entity: 1,
+                });
+            }
+        } else {
+            mesh.cells.push(cell);
+        }
+    }
+    mesh
 }
 
 /// The unit square in 2n² right triangles.
@@ -121,6 +144,22 @@ fn the_cell_by_cell_action_equals_the_assembled_condensed_matrix() {
         (crate::p_multigrid::tests::tet_cube(1), 5),
         (tri_square(3), 2),
         (tri_square(2), 6),
+        // Hexahedra and prisms (perturbed: not parallelepipeds), quadrilaterals, alone and
+        // mixed with triangles: from the gradients at the quadrature points.
+        (
+            hocurve_testmeshes::unit_cube(2, hocurve_testmeshes::Fill::HexPrism, 0.2),
+            2,
+        ),
+        (
+            hocurve_testmeshes::unit_cube(2, hocurve_testmeshes::Fill::Hex, 0.2),
+            3,
+        ),
+        (
+            hocurve_testmeshes::unit_cube(1, hocurve_testmeshes::Fill::Prism, 0.0),
+            4,
+        ),
+        (hocurve_testmeshes::unit_square(3, Shape::Quad, 0.2), 3),
+        (mixed_square(), 2),
     ] {
         let (mesh, constraints, stiffening) = system(&linear, p);
         assert!(MatrixFreeStiffness::applies(&mesh));
@@ -186,7 +225,7 @@ fn the_action_does_not_depend_on_the_number_of_threads() {
 }
 
 #[test]
-fn curved_or_mixed_meshes_are_left_to_the_assembled_matrix() {
+fn curved_simplices_are_left_to_the_assembled_matrix() {
     let linear = crate::p_multigrid::tests::tet_cube(1);
     let mut mesh = HighOrderMesh::from_linear(&linear, 2, NodeFamily::Fekete).unwrap();
     assert!(MatrixFreeStiffness::applies(&mesh));
