@@ -34,17 +34,18 @@ pub(crate) struct TensorJacobian {
     binomial: Vec<Vec<f64>>,
 }
 
-/// A tensor Bernstein polynomial: coefficients (storage i₀ + (d₀+1)(i₁ + (d₁+1) i₂)),
-/// degrees per variable, and a bound on the absolute error of every coefficient.
+/// A Bernstein polynomial and a bound on the absolute error of every coefficient: tensor
+/// (storage i₀ + (d₀+1)(i₁ + (d₁+1) i₂), degrees per variable) here, on the simplex (total
+/// degree `degree[0]`) in [`crate::bezier_simplex`].
 #[derive(Debug, Clone)]
-struct Bounded {
-    c: Vec<f64>,
-    degree: [usize; 3],
-    error: f64,
+pub(crate) struct Bounded {
+    pub(crate) c: Vec<f64>,
+    pub(crate) degree: [usize; 3],
+    pub(crate) error: f64,
 }
 
 impl Bounded {
-    fn max_abs(&self) -> f64 {
+    pub(crate) fn max_abs(&self) -> f64 {
         self.c.iter().fold(0.0, |m, v| m.max(v.abs()))
     }
 }
@@ -170,28 +171,8 @@ impl TensorJacobian {
             };
             partials.push((0..dim).map(|a| derivative(&control, a)).collect());
         }
-        let det = if dim == 2 {
-            let a = self.product(&partials[0][0], &partials[1][1]);
-            let b = self.product(&partials[0][1], &partials[1][0]);
-            difference(&a, &b)
-        } else {
-            let minor = |a: usize, b: usize| {
-                let one = self.product(&partials[1][a], &partials[2][b]);
-                let two = self.product(&partials[1][b], &partials[2][a]);
-                difference(&one, &two)
-            };
-            let t0 = self.product(&partials[0][0], &minor(1, 2));
-            let t1 = self.product(&partials[0][1], &minor(0, 2));
-            let t2 = self.product(&partials[0][2], &minor(0, 1));
-            let sum = difference(&t0, &t1);
-            let mut total = sum.clone();
-            for (out, v) in total.c.iter_mut().zip(&t2.c) {
-                *out += v;
-            }
-            total.error =
-                sum.error + t2.error + 2.0 * f64::EPSILON * (sum.max_abs() + t2.max_abs());
-            total
-        };
+        let product = |f: &Bounded, g: &Bounded| self.product(f, g);
+        let det = determinant(dim, &partials, product, product);
         (det.c, det.error)
     }
 
@@ -282,6 +263,37 @@ fn derivative(f: &Bounded, axis: usize) -> Bounded {
         degree,
         error: d as f64 * (2.0 * f.error + 2.0 * f64::EPSILON * f.max_abs()),
     }
+}
+
+/// det J from the partials `partials[d][α]` = ∂x_d/∂ξ_α in Bernstein form, with its error
+/// bound: ∂₀x₀ ∂₁x₁ − ∂₁x₀ ∂₀x₁ in 2D, the cofactor expansion along ∂x₀ in 3D. `square`
+/// multiplies two partials, `cube` a partial by a 2 × 2 minor.
+pub(crate) fn determinant(
+    dim: usize,
+    partials: &[Vec<Bounded>],
+    square: impl Fn(&Bounded, &Bounded) -> Bounded,
+    cube: impl Fn(&Bounded, &Bounded) -> Bounded,
+) -> Bounded {
+    if dim == 2 {
+        let a = square(&partials[0][0], &partials[1][1]);
+        let b = square(&partials[0][1], &partials[1][0]);
+        return difference(&a, &b);
+    }
+    let minor = |a: usize, b: usize| {
+        let one = square(&partials[1][a], &partials[2][b]);
+        let two = square(&partials[1][b], &partials[2][a]);
+        difference(&one, &two)
+    };
+    let t0 = cube(&partials[0][0], &minor(1, 2));
+    let t1 = cube(&partials[0][1], &minor(0, 2));
+    let t2 = cube(&partials[0][2], &minor(0, 1));
+    let sum = difference(&t0, &t1);
+    let mut total = sum.clone();
+    for (out, v) in total.c.iter_mut().zip(&t2.c) {
+        *out += v;
+    }
+    total.error = sum.error + t2.error + 2.0 * f64::EPSILON * (sum.max_abs() + t2.max_abs());
+    total
 }
 
 /// f − g (same degrees), with its error bound.

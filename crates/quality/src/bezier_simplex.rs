@@ -19,21 +19,8 @@
 use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
 use nalgebra::DMatrix;
 
+use crate::bezier_map::{determinant, Bounded};
 use crate::{BernsteinSpace, QualityError};
-
-/// A Bernstein polynomial of total degree `degree` on the simplex (coefficients in
-/// [`simplex_lattice`] order) and a bound on the absolute error of every coefficient.
-#[derive(Debug, Clone)]
-struct Bounded {
-    c: Vec<f64>,
-    error: f64,
-}
-
-impl Bounded {
-    fn max_abs(&self) -> f64 {
-        self.c.iter().fold(0.0, |m, v| m.max(v.abs()))
-    }
-}
 
 /// The multi-indices (α_1, α_2, α_3) of total degree ≤ … of the simplex lattice of
 /// degree `d` in `dim` variables, in the order of [`crate::BernsteinSpace`]: the last
@@ -108,6 +95,7 @@ impl ProductTable {
         let (mf, mg) = (f.max_abs(), g.max_abs());
         Bounded {
             c,
+            degree: [f.degree[0] + g.degree[0], 0, 0],
             error: f.error * mg
                 + g.error * mf
                 + f.error * g.error
@@ -281,6 +269,7 @@ impl SimplexJacobian {
                 self.derivative
                     .iter()
                     .map(|pairs| Bounded {
+                        degree: [p - 1, 0, 0],
                         c: pairs
                             .iter()
                             .map(|&(up, base)| {
@@ -293,38 +282,12 @@ impl SimplexJacobian {
                     .collect(),
             );
         }
-        let det = if dim == 2 {
-            let a = self.square.product(&partials[0][0], &partials[1][1]);
-            let b = self.square.product(&partials[0][1], &partials[1][0]);
-            difference(&a, &b)
-        } else {
-            let cube = self.cube.as_ref().expect("3D tables");
-            let minor = |a: usize, b: usize| {
-                let one = self.square.product(&partials[1][a], &partials[2][b]);
-                let two = self.square.product(&partials[1][b], &partials[2][a]);
-                difference(&one, &two)
-            };
-            let t0 = cube.product(&partials[0][0], &minor(1, 2));
-            let t1 = cube.product(&partials[0][1], &minor(0, 2));
-            let t2 = cube.product(&partials[0][2], &minor(0, 1));
-            let sum = difference(&t0, &t1);
-            let mut total = sum.clone();
-            for (out, v) in total.c.iter_mut().zip(&t2.c) {
-                *out += v;
-            }
-            total.error =
-                sum.error + t2.error + 2.0 * f64::EPSILON * (sum.max_abs() + t2.max_abs());
-            total
+        let square = |f: &Bounded, g: &Bounded| self.square.product(f, g);
+        let det = match &self.cube {
+            Some(cube) => determinant(dim, &partials, square, |f, g| cube.product(f, g)),
+            None => determinant(dim, &partials, square, square),
         };
         (det.c, det.error)
-    }
-}
-
-/// f − g (same degree), with its error bound.
-fn difference(f: &Bounded, g: &Bounded) -> Bounded {
-    Bounded {
-        c: f.c.iter().zip(&g.c).map(|(a, b)| a - b).collect(),
-        error: f.error + g.error + f64::EPSILON * (f.max_abs() + g.max_abs()),
     }
 }
 
