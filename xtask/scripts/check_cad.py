@@ -4,7 +4,8 @@
     target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs) GROUP
 
 - Every node of every boundary element of physical group GROUP (the curved wall) lies on
-  the geometry: for a JSON sphere, | |x - c| - r | (a cylinder: its radial distance minus r);
+  the geometry: for a JSON sphere, | |x - c| - r | (a cylinder: its radial distance minus r;
+  a circle: the same in the plane);
   for IGES, the distance to the nearest
   face of the model as OpenCASCADE (Gmsh's `getClosestPoint`) computes it.
 - det J of every cell, by Gmsh's `getJacobians`, at the degree-2p Gauss points and at the
@@ -67,10 +68,14 @@ def distances(path, points):
     if path.endswith(".json"):
         with open(path) as f:
             entities = json.load(f)["entities"]
-        if len(entities) != 1 or entities[0]["kind"] not in ("sphere", "cylinder"):
-            raise SystemExit("the JSON check knows one sphere or one cylinder only")
+        if len(entities) != 1 or entities[0]["kind"] not in ("sphere", "cylinder", "circle"):
+            raise SystemExit("the JSON check knows one sphere, cylinder or circle only")
         e = entities[0]
         r = float(e["radius"])
+        if e["kind"] == "circle":
+            c = np.array(list(e["center"]) + [0.0], float)[:3]
+            planar = (points - c)[:, :2]
+            return np.abs(np.linalg.norm(planar, axis=1) - r), 2.0 * r
         if e["kind"] == "sphere":
             c = np.array(e["center"], float)
             return np.abs(np.linalg.norm(points - c, axis=1) - r), 2.0 * r
@@ -104,9 +109,6 @@ def jacobians():
     for element_type in gmsh.model.mesh.getElementTypes(dim):
         _, _, order, _, local_nodes, _ = gmsh.model.mesh.getElementProperties(element_type)
         gauss, _ = gmsh.model.mesh.getIntegrationPoints(element_type, "Gauss%d" % (2 * order))
-        points = np.concatenate([np.asarray(gauss), np.asarray(local_nodes)[:len(local_nodes)]])
-        if dim == 2:
-            points = pad(points, 2)
         det_gauss = determinants(element_type, gauss, dim)
         det_nodes = determinants(element_type, pad(local_nodes, dim) if dim == 2 else local_nodes, dim)
         det = np.concatenate([det_gauss, det_nodes], axis=1)

@@ -12,7 +12,8 @@
 //! IGES geometry), the coarse boundary-layer tets (stretch 260) and the thin layers on a
 //! very coarse sphere, which only the repair (untangling) makes valid, and the extruded
 //! boundary layer of hexahedra and prisms around a cylinder (p = 2: its end planes slide
-//! by default); `verify --full` adds
+//! by default), the same split into tetrahedra (p = 2, 3) and its 2D section (p = 2..5),
+//! stretch 1200 to 2700; `verify --full` adds the tetrahedra at p = 4, 5,
 //! the finer boundary layer (stretch 288) and the wing body (trimmed B-spline faces in
 //! IGES); both take minutes per order.
 
@@ -33,7 +34,7 @@ struct Case {
     orders: std::ops::RangeInclusive<usize>,
 }
 
-const CASES: [Case; 9] = [
+const CASES: [Case; 12] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -99,6 +100,29 @@ const CASES: [Case; 9] = [
         group: "cylinder",
         full_only: false,
         orders: 2..=2,
+    },
+    // The same layer split into tetrahedra (stretch 2700), and its 2D section (quadrilaterals
+    // and triangles, stretch 1200).
+    Case {
+        name: "cylinder_layers_tets",
+        geometry: "json",
+        group: "cylinder",
+        full_only: false,
+        orders: 2..=3,
+    },
+    Case {
+        name: "cylinder_layers_tets",
+        geometry: "json",
+        group: "cylinder",
+        full_only: true,
+        orders: 4..=5,
+    },
+    Case {
+        name: "cylinder_layers_2d",
+        geometry: "json",
+        group: "cylinder",
+        full_only: false,
+        orders: 2..=5,
     },
 ];
 
