@@ -91,17 +91,7 @@ impl TensorJacobian {
         if seen.len() != side.pow(dim as u32) || tensor_index.len() != seen.len() {
             return Ok(None);
         }
-        let binomial: Vec<Vec<f64>> = (0..=60)
-            .map(|n| {
-                let mut row = vec![1.0; n + 1];
-                for k in 1..n {
-                    row[k] = (1..=k)
-                        .fold(1.0, |c, j| c * (n + 1 - j) as f64 / j as f64)
-                        .round();
-                }
-                row
-            })
-            .collect();
+        let binomial = binomial_table(60);
         // M_{ij} = B_j^p(t_i); the Bézier coefficients of the interpolant are M⁻¹ · values.
         let p = order;
         let m = DMatrix::from_fn(side, side, |i, j| {
@@ -263,6 +253,21 @@ fn derivative(f: &Bounded, axis: usize) -> Bounded {
         degree,
         error: d as f64 * (2.0 * f.error + 2.0 * f64::EPSILON * f.max_abs()),
     }
+}
+
+/// binomial[n][k] = C(n, k) for n ≤ `top`, exact in f64 up to n = 60 (rounded products).
+pub(crate) fn binomial_table(top: usize) -> Vec<Vec<f64>> {
+    (0..=top)
+        .map(|n| {
+            let mut row = vec![1.0; n + 1];
+            for k in 1..n {
+                row[k] = (1..=k)
+                    .fold(1.0, |c, j| c * (n + 1 - j) as f64 / j as f64)
+                    .round();
+            }
+            row
+        })
+        .collect()
 }
 
 /// det J from the partials `partials[d][α]` = ∂x_d/∂ξ_α in Bernstein form, with its error

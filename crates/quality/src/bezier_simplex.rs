@@ -19,7 +19,7 @@
 use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
 use nalgebra::DMatrix;
 
-use crate::bezier_map::{determinant, Bounded};
+use crate::bezier_map::{binomial_table, determinant, Bounded};
 use crate::{BernsteinSpace, QualityError};
 
 /// The multi-indices (α_1, α_2, α_3) of total degree ≤ … of the simplex lattice of
@@ -153,17 +153,7 @@ impl SimplexJacobian {
         if !same_order {
             return Ok(None);
         }
-        let binomial: Vec<Vec<f64>> = (0..=det_degree.max(p))
-            .map(|n| {
-                let mut row = vec![1.0; n + 1];
-                for k in 1..n {
-                    row[k] = (1..=k)
-                        .fold(1.0, |c, j| c * (n + 1 - j) as f64 / j as f64)
-                        .round();
-                }
-                row
-            })
-            .collect();
+        let binomial = binomial_table(det_degree.max(p));
         let element = ReferenceElement::shared(shape, order, family)?;
         let points = element.nodes().points();
         let control = simplex_lattice(dim, p);
