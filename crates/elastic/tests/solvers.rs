@@ -37,7 +37,11 @@ fn solve(mesh: &HighOrderMesh, bc: &BoundaryConditions, kind: SolverKind) -> Ela
 
 #[test]
 fn cg_and_direct_agree_in_3d() {
-    for (fill, p) in [(Fill::Tet(Kuhn::Paired), 2), (Fill::HexPrism, 3)] {
+    for (fill, p) in [
+        (Fill::Tet(Kuhn::Paired), 2),
+        (Fill::HexPrism, 3),
+        (Fill::Hex, 3),
+    ] {
         let mesh = high_order(&unit_cube(3, fill, 0.2), p, NodeFamily::Fekete);
         let bc = clamped_and_pushed(&mesh);
         let direct = solve(&mesh, &bc, SolverKind::Direct);
