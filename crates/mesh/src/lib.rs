@@ -159,6 +159,23 @@ pub enum MeshError {
         /// Signed Jacobian determinant there.
         jacobian: f64,
     },
+    /// A 2D cell numbered the other way round from the mesh's first cell (clockwise against
+    /// counter-clockwise in the xy-plane): each is valid, but a mesh must use one orientation.
+    #[error(
+        "input element tag {tag} is numbered {this} in the xy-plane, the first cell (element tag {first_tag}) {first}: a 2D mesh must number all its cells one way round (in Gmsh: gmsh.model.mesh.reverse on the surfaces of one kind, or ReverseMesh Surface{{…}})"
+    )]
+    MixedOrientation {
+        /// Cell index.
+        index: usize,
+        /// The cell's tag in the file (Gmsh element tag).
+        tag: u64,
+        /// The first cell's tag.
+        first_tag: u64,
+        /// "clockwise" or "counter-clockwise".
+        this: &'static str,
+        /// The first cell's orientation.
+        first: &'static str,
+    },
     /// The nodal set could not be built.
     #[error(transparent)]
     Nodes(#[from] hocurve_nodes::NodesError),

@@ -230,13 +230,20 @@ impl LinearMesh {
 
     /// Rejects inverted or degenerate cells: in 3D, a cell whose Jacobian determinant at
     /// any vertex is not positive; in 2D (where a mesh may be numbered clockwise or
-    /// counter-clockwise in the xy-plane), a degenerate cell or one whose orientation
-    /// differs from the first cell's. At a vertex of every supported shape the Jacobian is
+    /// counter-clockwise in the xy-plane), a degenerate cell, or one whose orientation
+    /// differs from the first cell's ([`MeshError::MixedOrientation`]). At a vertex of every supported shape the Jacobian is
     /// the determinant of the edge vectors leaving that vertex (relative to the reference
     /// element's), so this is exact for straight-sided cells; it assumes [`Self::validate`]
     /// passed.
     pub fn check_orientation(&self) -> Result<(), MeshError> {
         let mut reference_sign = 0.0;
+        let turn = |sign: f64| {
+            if sign > 0.0 {
+                "counter-clockwise"
+            } else {
+                "clockwise"
+            }
+        };
         for (c, cell) in self.cells.iter().enumerate() {
             let shape = cell.kind;
             let physical: Vec<[f64; 3]> = cell
@@ -244,7 +251,21 @@ impl LinearMesh {
                 .iter()
                 .map(|&v| self.vertices[v as usize])
                 .collect();
-            for (vertex, jacobian) in corner_jacobians(shape, &physical).into_iter().enumerate() {
+            let jacobians = corner_jacobians(shape, &physical);
+            // A whole 2D cell turning the other way is numbered differently, not inverted.
+            if self.dim == 2
+                && reference_sign != 0.0
+                && jacobians.iter().all(|&j| j * reference_sign < 0.0)
+            {
+                return Err(MeshError::MixedOrientation {
+                    index: c,
+                    tag: self.cell_tag(c),
+                    first_tag: self.cell_tag(0),
+                    this: turn(-reference_sign),
+                    first: turn(reference_sign),
+                });
+            }
+            for (vertex, jacobian) in jacobians.into_iter().enumerate() {
                 let sign = if self.dim == 2 {
                     if reference_sign == 0.0 {
                         reference_sign = jacobian.signum();

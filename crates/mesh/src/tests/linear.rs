@@ -87,8 +87,39 @@ fn two_d_meshes_must_be_consistently_oriented() {
         c.vertices.swap(1, 2);
     }
     assert!(mesh.check_orientation().is_ok());
+    // One cell the other way round: named as such, not as inverted.
     mesh.cells[1].vertices.swap(1, 2);
     let err = mesh.check_orientation().unwrap_err();
+    assert!(
+        matches!(
+            err,
+            MeshError::MixedOrientation {
+                index: 1,
+                this: "counter-clockwise",
+                first: "clockwise",
+                ..
+            }
+        ),
+        "{err}"
+    );
+    // A quadrilateral folded over itself (its corners turning both ways) is inverted.
+    let mut quads = one_cell(
+        2,
+        Shape::Quad,
+        vec![
+            [0.0, 0.0, 0.0],
+            [1.0, 0.0, 0.0],
+            [1.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0],
+        ],
+    );
+    quads.vertices.extend([[2.0, 0.0, 0.0], [2.0, 1.0, 0.0]]);
+    quads.cells.push(Element {
+        kind: Shape::Quad,
+        vertices: vec![1, 4, 2, 5],
+        entity: 1,
+    });
+    let err = quads.check_orientation().unwrap_err();
     assert!(
         matches!(err, MeshError::InvertedCell { index: 1, .. }),
         "{err}"
