@@ -17,6 +17,7 @@ use hocurve_quality::MeshQuality;
 use crate::active_region::{solve_in_active_region, solve_whole_mesh, SolveRegion};
 use crate::boundary_conditions::{boundary_conditions, sliding_groups};
 use crate::certification::{affine_cells, assess_certified_with_affine, invalid_elements};
+use crate::layer_columns::layer_columns;
 use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, Step};
 use crate::report::{CurveReport, SlidingGroup, StepTimings};
 
@@ -71,6 +72,8 @@ pub(crate) struct Attempt {
     pub(crate) sliding_nodes: usize,
     /// The groups they slide on.
     pub(crate) sliding_groups: Vec<SlidingGroup>,
+    /// Boundary-layer columns moved with the wall, and their cells.
+    pub(crate) layer_columns: (usize, usize),
     /// Solver name, iterations, unknowns, relative residual.
     pub(crate) solve: (String, usize, usize, f64),
     /// Cells in the elastic solve.
@@ -96,6 +99,7 @@ impl Attempt {
             max_geometry_distance: 0.0,
             sliding_nodes: 0,
             sliding_groups: Vec::new(),
+            layer_columns: (0, 0),
             solve: (String::from("none"), 0, 0, 0.0),
             solve_cells: 0,
             solves: 0,
@@ -143,7 +147,12 @@ impl Attempt {
             progress(Progress::Step(Step::Elasticity));
             let groups = sliding_groups(&mesh, &targets.targets, &options.slide, &options.fix)?;
             let names: Vec<String> = groups.iter().map(|(n, _)| n.clone()).collect();
-            let bc = boundary_conditions(&mesh, &targets.targets, &names)?;
+            let mut bc = boundary_conditions(&mesh, &targets.targets, &names)?;
+            if options.layer_columns {
+                let columns = layer_columns(&mesh, &targets.targets)?;
+                columns.prescribe(&mut bc);
+                attempt.layer_columns = (columns.columns, columns.cells);
+            }
             attempt.sliding_nodes = bc.sliding.len() + bc.along_line.len();
             attempt.sliding_groups = groups
                 .into_iter()
@@ -328,6 +337,8 @@ impl Attempt {
             unused_node_tags: Vec::new(),
             sliding_nodes: self.sliding_nodes,
             sliding_groups: self.sliding_groups,
+            layer_columns: self.layer_columns.0,
+            layer_column_cells: self.layer_columns.1,
             solver: self.solve.0,
             iterations: self.solve.1,
             residual: self.solve.3,

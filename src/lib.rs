@@ -48,6 +48,7 @@ mod correction_choice;
 pub mod demo;
 pub mod interpolation;
 pub mod job;
+pub mod layer_columns;
 pub mod memory;
 pub mod pipeline;
 mod precurving;

@@ -157,6 +157,10 @@ pub struct CurveOptions {
     /// cell's stiffness scaled by 1/|J| of its straight shape (see
     /// [`crate::repair::jacobian_stiffening`]) before untangling; needs `certify`.
     pub stiffen: bool,
+    /// Move the thin cells stacked on curved walls (boundary-layer columns of hexahedra,
+    /// prisms, quadrilaterals) with the wall rather than solving for them (see
+    /// [`crate::layer_columns`]); false solves the whole boundary layer by elasticity.
+    pub layer_columns: bool,
 }
 
 impl CurveOptions {
@@ -178,6 +182,7 @@ impl CurveOptions {
             certify: true,
             untangle: true,
             stiffen: true,
+            layer_columns: true,
         }
     }
 }

@@ -118,6 +118,11 @@ pub struct CurveReport {
     /// The boundary groups that slide, each flagged when it slides by default (made of
     /// planes and meeting a curved boundary; `--fix` keeps it fixed).
     pub sliding_groups: Vec<SlidingGroup>,
+    /// Boundary-layer columns (thin cells stacked on a curved wall facet) whose nodes moved
+    /// with the wall instead of being solved for (`--elastic-layers` turns this off).
+    pub layer_columns: usize,
+    /// Cells in those columns.
+    pub layer_column_cells: usize,
     /// Solver used: `direct`, `cg` or `none`.
     pub solver: String,
     /// CG iterations (0 for the direct solver).

@@ -87,6 +87,15 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             format!("{} on {}", r.sliding_nodes, groups.join(", ")),
         ));
     }
+    if r.layer_columns > 0 {
+        rows.push((
+            "layer columns",
+            format!(
+                "{} cells in {} wall-normal columns moved with the wall (--elastic-layers solves them)",
+                r.layer_column_cells, r.layer_columns
+            ),
+        ));
+    }
     if r.edges_split > 0 {
         rows.push((
             "edges split",

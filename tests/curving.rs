@@ -450,6 +450,76 @@ fn an_extruded_boundary_layer_slides_its_two_end_planes_by_default() {
     assert!(fixed.report.invalid_elements > 0);
 }
 
+/// Boundary-layer columns (`src/layer_columns.rs`) on the 2D section of the extruded
+/// cylinder layer: each of the 24 wall edges carries a column of 10 quadrilaterals (heights
+/// 1e-4 · 1.3^k), and every node of those cells moves exactly as the wall node on its ray
+/// from the centre (a straight cell's nodes lie on the rays through its wall nodes). Solved
+/// by elasticity instead (`layer_columns = false`) the layer's nodes do not.
+#[test]
+fn boundary_layer_columns_move_each_wall_normal_line_with_its_wall_node() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let linear = hocurve::io::read_msh(&root.join("fixtures/cad/cylinder_layers_2d.msh")).unwrap();
+    let model = parse_geometry_json(
+        &std::fs::read_to_string(root.join("fixtures/cad/cylinder_layers_2d.json")).unwrap(),
+    )
+    .unwrap();
+    let geometry = by_name(&model);
+    let thickness: f64 = (0..10).map(|k| 1e-4 * 1.3f64.powi(k)).sum();
+    let mut options = CurveOptions::new(3);
+    options.family = NodeFamily::Equispaced;
+    // Largest difference between a layer node's displacement and its wall node's, and how
+    // many layer nodes were compared.
+    let deviation = |curved: &CurvedMesh| -> (f64, usize) {
+        let straight = |n: usize| {
+            let (x, u) = (curved.mesh.nodes[n], curved.displacement[n]);
+            [x[0] - u[0], x[1] - u[1]]
+        };
+        let wall: Vec<(f64, f64, [f64; 3])> = group_nodes(&curved.mesh, "cylinder")
+            .iter()
+            .map(|&n| {
+                let x = straight(n as usize);
+                (
+                    x[1].atan2(x[0]),
+                    x[0].hypot(x[1]),
+                    curved.displacement[n as usize],
+                )
+            })
+            .collect();
+        let (mut worst, mut compared) = (0.0f64, 0);
+        for n in 0..curved.mesh.nodes.len() {
+            let x = straight(n);
+            let angle = x[1].atan2(x[0]);
+            // The straight layer is its wall edges scaled about the centre, by 1 at the wall
+            // up to (0.5 + thickness) / 0.5 at its top.
+            let Some((_, r_wall, w)) = wall.iter().find(|(a, _, _)| (a - angle).abs() < 1e-9)
+            else {
+                continue;
+            };
+            let scale = x[0].hypot(x[1]) / r_wall;
+            if scale < 1.0 + 1e-9 || scale > (0.5 + thickness) / 0.5 + 1e-9 {
+                continue;
+            }
+            let u = curved.displacement[n];
+            worst = worst.max((u[0] - w[0]).hypot(u[1] - w[1]));
+            compared += 1;
+        }
+        (worst, compared)
+    };
+    let columns = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert_eq!(columns.report.layer_columns, 24);
+    assert_eq!(columns.report.layer_column_cells, 240);
+    assert_eq!(columns.report.invalid_elements, 0);
+    let (worst, compared) = deviation(&columns);
+    // 24 rays through each wall edge's 4 nodes (3 distinct per edge), 10 layers of 3 rows.
+    assert_eq!(compared, 24 * 3 * 10 * 3);
+    assert!(worst < 1e-15, "{worst}");
+    options.layer_columns = false;
+    let solved = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert_eq!(solved.report.layer_columns, 0);
+    let (worst, _) = deviation(&solved);
+    assert!(worst > 1e-6, "{worst}");
+}
+
 /// The validity contract's first clause (DESIGN.md §12): the nodes that are written — the
 /// mesh [`curve_mesh`] returns, equispaced whatever family curved it — lie on the geometry
 /// to round-off. OpenCASCADE's sphere (vertices at both poles and along the seam) curved at

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Check a curved mesh written by hocurve against the geometry, with Gmsh as the evaluator.
 
-    target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs) GROUP
+    target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs) GROUP [--distance-only]
 
 - Every node of every boundary element of physical group GROUP (the curved wall) lies on
   the geometry: for a JSON sphere, | |x - c| - r | (a cylinder: its radial distance minus r;
@@ -9,10 +9,14 @@
   for IGES, the distance to the nearest
   face of the model as OpenCASCADE (Gmsh's `getClosestPoint`) computes it.
 - det J of every cell, by Gmsh's `getJacobians`, at the degree-2p Gauss points and at the
-  element's own nodes, is positive; Ĩ = min det J / max det J over those points.
+  element's own nodes, is positive; Ĩ = min det J / max det J over those points. For 2D
+  cells Gmsh's determinant is unsigned, so the signed one is formed from its Jacobian
+  matrices (the mesh is counter-clockwise in the xy plane).
 
 Prints one JSON line {"max_distance", "size", "invalid", "min_scaled_jacobian", "elements"};
 exits 1 if a node is farther than 1e-10 x the model size or an element has det J <= 0.
+`--distance-only` leaves det J out ("invalid" and "min_scaled_jacobian" null): Gmsh 4.15
+cannot evaluate complete prisms beyond order 2, whose det J `check_vtu.py` then checks.
 """
 
 import json
@@ -24,14 +28,20 @@ import numpy as np
 
 def main():
     mesh_path, geometry_path, group = sys.argv[1:4]
+    distance_only = sys.argv[4:] == ["--distance-only"]
     gmsh.initialize(readConfigFiles=False)
     gmsh.option.setNumber("General.Terminal", 0)
     gmsh.open(mesh_path)
     wall_nodes = group_nodes(group)
     coords = node_coordinates()
     points = np.array([coords[n] for n in sorted(wall_nodes)])
-    distance, size = distances(geometry_path, points)
-    invalid, min_scaled, elements = jacobians()
+    distance, size = distances(geometry_path, points, gmsh.model.getDimension() == 2)
+    if distance_only:
+        invalid, min_scaled = None, None
+        elements = sum(len(tags) for tags in
+                       gmsh.model.mesh.getElements(gmsh.model.getDimension())[1])
+    else:
+        invalid, min_scaled, elements = jacobians()
     gmsh.finalize()
     result = {
         "max_distance": float(distance.max()) if len(distance) else 0.0,
@@ -42,7 +52,7 @@ def main():
         "elements": elements,
     }
     print(json.dumps(result))
-    ok = result["max_distance"] <= 1e-10 * size and invalid == 0
+    ok = result["max_distance"] <= 1e-10 * size and not invalid
     sys.exit(0 if ok else 1)
 
 
@@ -64,7 +74,7 @@ def node_coordinates():
     return {int(t): xyz[i] for i, t in enumerate(tags)}
 
 
-def distances(path, points):
+def distances(path, points, planar_mesh):
     if path.endswith(".json"):
         with open(path) as f:
             entities = json.load(f)["entities"]
@@ -89,15 +99,22 @@ def distances(path, points):
     gmsh.model.add("geometry")
     gmsh.model.occ.importShapes(path)
     gmsh.model.occ.synchronize()
-    faces = [t for _, t in gmsh.model.getEntities(2)]
+    # The wall of a 2D mesh is made of curves, that of a 3D mesh of faces.
+    dim = 1 if planar_mesh else 2
+    faces = [t for _, t in gmsh.model.getEntities(dim)]
     box = gmsh.model.getBoundingBox(-1, -1)
     size = float(np.linalg.norm(np.array(box[3:]) - np.array(box[:3])))
     best = np.full(len(points), np.inf)
     flat = points.reshape(-1)
     for face in faces:
-        closest, _ = gmsh.model.getClosestPoint(2, face, flat)
+        closest, _ = gmsh.model.getClosestPoint(dim, face, flat)
         d = np.linalg.norm(np.asarray(closest).reshape(-1, 3) - points, axis=1)
         best = np.minimum(best, d)
+    # OpenCASCADE's closest point on a curve is ~1e-8 off at the curve's ends: the model's
+    # vertices are candidates of their own.
+    for _, vertex in gmsh.model.getEntities(0):
+        x = np.asarray(gmsh.model.getValue(0, vertex, []))
+        best = np.minimum(best, np.linalg.norm(points - x, axis=1))
     gmsh.model.remove()
     gmsh.model.setCurrent(gmsh.model.list()[0])
     return best, size
@@ -125,8 +142,14 @@ def pad(points, dim):
 
 
 def determinants(element_type, local, dim):
-    _, det, _ = gmsh.model.mesh.getJacobians(element_type, list(local))
+    jac, det, _ = gmsh.model.mesh.getJacobians(element_type, list(local))
     count = len(local) // 3
+    if dim == 2:
+        # Gmsh's determinant of a surface element is unsigned (its third column is the
+        # normal the first two give): take the signed one of the in-plane 2 x 2 block,
+        # columns d/du = (Jxu, Jyu, Jzu) and d/dv; the mesh is counter-clockwise.
+        j = np.asarray(jac).reshape(-1, 9)
+        return (j[:, 0] * j[:, 4] - j[:, 1] * j[:, 3]).reshape(-1, count)
     return np.asarray(det).reshape(-1, count)
 
 

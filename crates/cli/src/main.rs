@@ -134,6 +134,11 @@ struct MethodArgs {
     /// Boundary physical groups kept fixed that would slide by default.
     #[arg(long, num_args = 1.., value_name = "GROUP")]
     fix: Vec<String>,
+    /// Solve the thin cells of boundary layers by elasticity like the rest. By default the
+    /// cells stacked on a curved wall (wall-normal columns of hexahedra, prisms and
+    /// quadrilaterals, each thinner than half its width) move with the wall.
+    #[arg(long)]
+    elastic_layers: bool,
     /// Move only the boundary nodes onto the geometry (no elastic solve): for looking at
     /// the boundary placement.
     #[arg(long)]
@@ -343,6 +348,7 @@ impl MethodArgs {
         options.slide = self.slide.clone();
         options.fix = self.fix.clone();
         options.boundary_only = self.boundary_only;
+        options.layer_columns = !self.elastic_layers;
         options.solve_region = self.solve_region;
         options.certify = !self.no_certify;
         options.untangle = !self.no_repair;

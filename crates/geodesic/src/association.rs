@@ -7,7 +7,12 @@
 //!    (the JSON input's `name`s are chosen for this).
 //! 2. **By proximity** (when [`AssociationRule::NameThenNearest`] is asked for, as for IGES,
 //!    whose entities carry no mesh names): the entity of the facet's dimension nearest to all
-//!    its vertices — the smallest maximum vertex distance — if that is within the tolerance.
+//!    its vertices — the smallest maximum vertex distance — if that is within the tolerance
+//!    and within [`PROXIMITY_EDGE_FRACTION`] of the facet's shortest edge. The second bound
+//!    keeps out facets that merely *touch* a surface: in a boundary layer of first height h
+//!    below the tolerance, a facet of an end plane spans the layer with two vertices on the
+//!    wall's boundary edge and two at distance h = its own shortest edge (a facet lying on
+//!    the surface is off it by the CAD–mesh mismatch, a tiny fraction of its edges).
 //!
 //! Facets left over stay straight and are counted. A vertex of an associated facet farther
 //! than the tolerance from its entity is an error; a vertex within it is moved onto the
@@ -38,6 +43,10 @@ pub enum AssociationRule {
 
 /// The relative default tolerance: a fraction of the mesh's bounding-box diagonal.
 pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-4;
+
+/// The largest vertex distance, as a fraction of a facet's shortest edge, at which proximity
+/// still puts the facet on an entity (see the module doc).
+pub const PROXIMITY_EDGE_FRACTION: f64 = 0.1;
 
 /// Which entity each boundary facet lies on, and where its vertices go.
 #[derive(Debug, Clone, PartialEq)]
@@ -154,13 +163,15 @@ pub fn associate_boundary(
                 continue;
             }
             let mut best: Option<(f64, usize)> = None;
+            let reach =
+                tolerance.min(PROXIMITY_EDGE_FRACTION * shortest_edge(mesh, &facet.vertices));
             for (k, &e) in candidates.iter().enumerate() {
                 let worst = facet
                     .vertices
                     .iter()
                     .map(|&v| row(v)[k])
                     .fold(0.0, f64::max);
-                if worst <= tolerance && best.is_none_or(|(d, _)| worst < d) {
+                if worst <= reach && best.is_none_or(|(d, _)| worst < d) {
                     best = Some((worst, e));
                 }
             }
@@ -230,6 +241,20 @@ pub fn associate_boundary(
         unassociated,
         max_vertex_move,
     })
+}
+
+/// The shortest side of a facet (a segment, or a polygon through its vertices in order).
+fn shortest_edge(mesh: &LinearMesh, vertices: &[u32]) -> f64 {
+    let k = vertices.len();
+    let sides = if k == 2 { 1 } else { k };
+    (0..sides)
+        .map(|i| {
+            distance(
+                mesh.vertices[vertices[i] as usize],
+                mesh.vertices[vertices[(i + 1) % k] as usize],
+            )
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The point on all of `entities` nearest `x`: the projection for one entity; alternating

@@ -129,6 +129,54 @@ fn a_named_entity_that_misses_the_vertices_is_an_error_naming_the_vertex() {
     assert!(matches!(nan, Err(GeodesicError::Tolerance(t)) if t.is_nan()));
 }
 
+/// A boundary layer of first height h below the tolerance: the wall's facet is on the
+/// circle, the layer's side facet that only touches it (one vertex on it, one h off, h its
+/// length) is not, though both its vertices are within the tolerance.
+#[test]
+fn proximity_leaves_out_a_facet_that_only_touches_the_curve() {
+    use hocurve_mesh::{Element, Shape};
+    use hocurve_nurbs::shapes::circle;
+    use std::collections::BTreeMap;
+    let h = 1e-4;
+    let on = |t: f64| [t.cos(), t.sin(), 0.0];
+    let segment = |a: u32, b: u32| Element {
+        kind: Shape::Line,
+        vertices: vec![a, b],
+        entity: 1,
+    };
+    let mesh = LinearMesh {
+        dim: 2,
+        vertices: vec![on(0.0), on(0.05), [1.0 + h, 0.0, 0.0], [-1.0, -1.0, 0.0]],
+        cells: Vec::new(),
+        facets: vec![segment(0, 1), segment(0, 2)],
+        physical_groups: Vec::new(),
+        entity_physicals: BTreeMap::new(),
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
+    };
+    let model = GeometryModel {
+        entities: vec![GeometricEntity::new(
+            "wall",
+            "test",
+            EntityGeometry::Curve(circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("circle")),
+        )],
+    };
+    let tolerance = 1e-4 * bounding_box_diagonal(&mesh.vertices);
+    assert!(h < tolerance, "the case needs h within the tolerance");
+    let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None).expect("ok");
+    assert_eq!(a.facet_entity, [Some(0), None]);
+    assert_eq!(a.by_proximity, 1);
+    assert!(!a.vertex_targets.contains_key(&2));
+    // A facet along the curve whose vertices are off it by a CAD–mesh mismatch (1e-6, far
+    // below a tenth of its length) is taken, and its vertices are moved onto the circle.
+    let mut close = mesh.clone();
+    close.vertices[0] = [1.0 + 1e-6, 0.0, 0.0];
+    let b = associate_boundary(&close, &model, AssociationRule::NameThenNearest, None).expect("ok");
+    assert_eq!(b.facet_entity, [Some(0), None]);
+    assert!((b.max_vertex_move - 1e-6).abs() < 1e-12);
+}
+
 #[test]
 fn a_surface_for_a_2d_mesh_is_an_error() {
     let mut mesh = fixture("naca0012/naca0012.msh");
