@@ -74,6 +74,11 @@ pub(crate) struct Attempt {
     pub(crate) sliding_groups: Vec<SlidingGroup>,
     /// Boundary-layer columns moved with the wall, and their cells.
     pub(crate) layer_columns: (usize, usize),
+    /// Whether the solve scaled each cell's stiffness by 1/|J| (a boundary-layer mesh, or
+    /// the repair's second solve).
+    pub(crate) stiffened: bool,
+    /// Whether that stiffening was chosen for boundary-layer structure.
+    pub(crate) layer_stiffened: bool,
     /// Solver name, iterations, unknowns, relative residual.
     pub(crate) solve: (String, usize, usize, f64),
     /// Cells in the elastic solve.
@@ -100,6 +105,8 @@ impl Attempt {
             sliding_nodes: 0,
             sliding_groups: Vec::new(),
             layer_columns: (0, 0),
+            stiffened: false,
+            layer_stiffened: false,
             solve: (String::from("none"), 0, 0, 0.0),
             solve_cells: 0,
             solves: 0,
@@ -118,6 +125,7 @@ impl Attempt {
         progress: &mut dyn FnMut(Progress),
         timings: &mut StepTimings,
     ) -> Result<Self, CurveError> {
+        let mut layer_stiffening: Option<Vec<f64>> = None;
         let (targets, stiffening, initial) = match boundary {
             Boundary::Place {
                 geometry,
@@ -129,7 +137,11 @@ impl Attempt {
                 let targets =
                     place_boundary_nodes_with(straight, geometry.model, association, placement)?;
                 timings.boundary_nodes += t.elapsed().as_secs_f64();
-                (targets, None, None)
+                let layered = options.layer_stiffening
+                    && !options.boundary_only
+                    && crate::repair::has_boundary_layer(straight, &targets.targets)?;
+                layer_stiffening = layered.then(|| crate::repair::jacobian_stiffening(straight));
+                (targets, layer_stiffening.as_deref(), None)
             }
             Boundary::Stiffened {
                 targets,
@@ -143,6 +155,8 @@ impl Attempt {
         };
         let mut mesh = straight.clone();
         let mut attempt = Attempt::straight(straight);
+        attempt.stiffened = stiffening.is_some();
+        attempt.layer_stiffened = layer_stiffening.is_some();
         if !options.boundary_only {
             progress(Progress::Step(Step::Elasticity));
             let groups = sliding_groups(&mesh, &targets.targets, &options.slide, &options.fix)?;
@@ -339,6 +353,7 @@ impl Attempt {
             sliding_groups: self.sliding_groups,
             layer_columns: self.layer_columns.0,
             layer_column_cells: self.layer_columns.1,
+            layer_stiffening: self.layer_stiffened,
             solver: self.solve.0,
             iterations: self.solve.1,
             residual: self.solve.3,

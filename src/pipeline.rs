@@ -161,6 +161,11 @@ pub struct CurveOptions {
     /// prisms, quadrilaterals) with the wall rather than solving for them (see
     /// [`crate::layer_columns`]); false solves the whole boundary layer by elasticity.
     pub layer_columns: bool,
+    /// On a mesh with boundary-layer structure ([`crate::repair::has_boundary_layer`]),
+    /// solve with each cell's stiffness scaled by 1/|J| of its straight shape
+    /// ([`crate::repair::jacobian_stiffening`]) from the start; false keeps the paper's
+    /// uniform material (the repair may still stiffen).
+    pub layer_stiffening: bool,
 }
 
 impl CurveOptions {
@@ -183,6 +188,7 @@ impl CurveOptions {
             untangle: true,
             stiffen: true,
             layer_columns: true,
+            layer_stiffening: true,
         }
     }
 }
@@ -345,7 +351,9 @@ pub fn curve_mesh(
     let mut stiffened_resolve = None;
     let uncertified_after_solve = crate::repair::not_certified(&quality).len();
     let repairable = options.certify && !options.boundary_only;
-    if let (true, Some(targets)) = (options.stiffen && repairable, attempt.targets.clone()) {
+    // A first solve already stiffened would only be repeated.
+    let stiffen = options.stiffen && repairable && !attempt.stiffened;
+    if let (true, Some(targets)) = (stiffen, attempt.targets.clone()) {
         let bad = uncertified_after_solve;
         if bad > 0 {
             progress(Progress::Step(Step::Repair));

@@ -39,6 +39,27 @@ pub fn not_certified(quality: &MeshQuality) -> Vec<usize> {
     cells.into_iter().collect()
 }
 
+/// A cell touching the curved boundary this stretched (longest over shortest edge, the
+/// paper's Sect. 5 measure) marks a boundary-layer mesh: isotropic tetrahedral meshes stay
+/// below ~5, wall layers reach 10²–10⁴.
+pub const LAYER_STRETCH: f64 = 10.0;
+
+/// Whether the straight mesh has boundary-layer structure: a cell with a node in `targets`
+/// (on the curved boundary) stretched by at least [`LAYER_STRETCH`]. Such meshes get the
+/// [`jacobian_stiffening`] in their first solve (issue 21: thin cells at the wall must move
+/// rigidly rather than shear).
+pub fn has_boundary_layer(
+    straight: &HighOrderMesh,
+    targets: &std::collections::BTreeMap<u32, [f64; 3]>,
+) -> Result<bool, hocurve_quality::QualityError> {
+    let stretching = hocurve_quality::stretching(straight)?;
+    Ok(straight
+        .cells
+        .iter()
+        .zip(&stretching)
+        .any(|(cell, &s)| s >= LAYER_STRETCH && cell.nodes.iter().any(|n| targets.contains_key(n))))
+}
+
 /// Tezduyar's Jacobian-based stiffening: cell c's Young's modulus scaled by
 /// max_k |J_k| / |J_c| (≥ 1), J_c the Jacobian of c's straight shape at its first vertex,
 /// so that small cells (the thin layers at a wall) move rigidly instead of absorbing the

@@ -123,6 +123,10 @@ pub struct CurveReport {
     pub layer_columns: usize,
     /// Cells in those columns.
     pub layer_column_cells: usize,
+    /// Whether the mesh has boundary-layer structure and was solved with each cell's
+    /// stiffness scaled by 1/|J| of its straight shape from the start
+    /// ([`crate::repair::has_boundary_layer`]; `--uniform-stiffness` turns this off).
+    pub layer_stiffening: bool,
     /// Solver used: `direct`, `cg` or `none`.
     pub solver: String,
     /// CG iterations (0 for the direct solver).

@@ -87,6 +87,13 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             format!("{} on {}", r.sliding_nodes, groups.join(", ")),
         ));
     }
+    if r.layer_stiffening {
+        rows.push((
+            "stiffness",
+            "each cell's scaled by 1/|J| (boundary-layer mesh; --uniform-stiffness keeps it uniform)"
+                .to_string(),
+        ));
+    }
     if r.layer_columns > 0 {
         rows.push((
             "layer columns",

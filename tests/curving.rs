@@ -520,6 +520,34 @@ fn boundary_layer_columns_move_each_wall_normal_line_with_its_wall_node() {
     assert!(worst > 1e-6, "{worst}");
 }
 
+/// Boundary-layer meshes are solved with each cell's stiffness scaled by 1/|J| from the
+/// start (issue 21, point 3): the thin tetrahedral layers on a coarse sphere (first height
+/// 1e-3 under wall edges up to 1 long) are detected as such, and the stiffened first solve leaves fewer elements
+/// uncertified than the uniform one; the isotropic sphere-in-a-box is not stiffened.
+#[test]
+fn boundary_layer_meshes_are_solved_with_small_cells_stiffer() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let linear = hocurve::io::read_msh(&root.join("fixtures/cad/sphere_layers_thin.msh")).unwrap();
+    let model = sphere_of_radius(1.0);
+    let geometry = by_name(&model);
+    let mut options = CurveOptions::new(3);
+    options.stiffen = false;
+    options.untangle = false;
+    let stiff = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert!(stiff.report.layer_stiffening);
+    options.layer_stiffening = false;
+    let uniform = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert!(!uniform.report.layer_stiffening);
+    let (a, b) = (
+        stiff.report.uncertified_after_solve,
+        uniform.report.uncertified_after_solve,
+    );
+    assert!(a < b, "stiffened {a}, uniform {b}");
+    let sphere = hocurve::io::read_msh(&root.join("fixtures/sphere/sphere.msh")).unwrap();
+    let plain = curve_mesh(&sphere, Some(geometry), &CurveOptions::new(2), &mut |_| {}).unwrap();
+    assert!(!plain.report.layer_stiffening);
+}
+
 /// The validity contract's first clause (DESIGN.md §12): the nodes that are written — the
 /// mesh [`curve_mesh`] returns, equispaced whatever family curved it — lie on the geometry
 /// to round-off. OpenCASCADE's sphere (vertices at both poles and along the seam) curved at
@@ -597,6 +625,9 @@ fn thin_wall_annuli(
                 let mut options = CurveOptions::new(p);
                 options.stiffen = false;
                 options.untangle = false;
+                // The repair is tested from the paper's uniform material (these layers
+                // would otherwise be stiffened from the start).
+                options.layer_stiffening = false;
                 // The straight sides held (they would slide by default): every boundary
                 // node is then fixed or on the wall, and must stay where it is.
                 options.fix = vec!["bottom".into(), "left".into()];
@@ -784,12 +815,15 @@ fn the_repair_gives_the_same_bits_for_any_thread_count() {
     let linear = hocurve::io::read_msh(&root.join("fixtures/cad/sphere_layers_thin.msh")).unwrap();
     let model = sphere_of_radius(1.0);
     let geometry = by_name(&model);
+    // From the uniform material, so that every repair step runs.
+    let mut options = CurveOptions::new(3);
+    options.layer_stiffening = false;
     let run = |threads: usize| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| curve_mesh(&linear, Some(geometry), &CurveOptions::new(3), &mut |_| {}))
+            .install(|| curve_mesh(&linear, Some(geometry), &options, &mut |_| {}))
             .unwrap()
     };
     let one = run(1);

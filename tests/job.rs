@@ -69,6 +69,7 @@ fn a_mesh_that_is_not_certified_is_rejected_and_nothing_is_written() {
     let mut no_repair = options(2);
     no_repair.curve.stiffen = false;
     no_repair.curve.untangle = false;
+    no_repair.curve.layer_stiffening = false;
     match curve_and_write(&inputs, &no_repair, &outputs, &mut |_| {}) {
         Err(JobError::Rejected { reason, curved }) => {
             assert!(reason.contains("not certified valid"), "{reason}");

@@ -31,16 +31,18 @@ def main():
     distance_only = sys.argv[4:] == ["--distance-only"]
     gmsh.initialize(readConfigFiles=False)
     gmsh.option.setNumber("General.Terminal", 0)
-    gmsh.open(mesh_path)
-    wall_nodes = group_nodes(group)
-    coords = node_coordinates()
-    points = np.array([coords[n] for n in sorted(wall_nodes)])
-    distance, size = distances(geometry_path, points, gmsh.model.getDimension() == 2)
     if distance_only:
+        # Gmsh refuses to open such files at all: read the nodes from the text.
+        dim, points, elements = read_msh41(mesh_path, group)
+        gmsh.model.add("empty")
+        distance, size = distances(geometry_path, points, dim == 2)
         invalid, min_scaled = None, None
-        elements = sum(len(tags) for tags in
-                       gmsh.model.mesh.getElements(gmsh.model.getDimension())[1])
     else:
+        gmsh.open(mesh_path)
+        wall_nodes = group_nodes(group)
+        coords = node_coordinates()
+        points = np.array([coords[n] for n in sorted(wall_nodes)])
+        distance, size = distances(geometry_path, points, gmsh.model.getDimension() == 2)
         invalid, min_scaled, elements = jacobians()
     gmsh.finalize()
     result = {
@@ -66,6 +68,57 @@ def group_nodes(name):
                     nodes.update(int(n) for n in block)
             return nodes
     raise SystemExit(f"no physical group {name!r}")
+
+
+def read_msh41(path, group):
+    """An ASCII MSH 4.1 file by hand: the mesh dimension, the coordinates of the nodes of the
+    elements of physical group `group` (one dimension below the mesh), the cell count."""
+    with open(path) as f:
+        lines = f.read().split("\n")
+    sections, i = {}, 0
+    while i < len(lines):
+        if lines[i].startswith("$") and not lines[i].startswith("$End"):
+            name, start = lines[i][1:], i + 1
+            while not lines[i].startswith("$End"):
+                i += 1
+            sections[name] = lines[start:i]
+        i += 1
+    tag_of = {}
+    for line in sections["PhysicalNames"][1:]:
+        d, t, name = line.split(maxsplit=2)
+        tag_of[(int(d), name.strip('"'))] = int(t)
+    ent = sections["Entities"]
+    counts = [int(c) for c in ent[0].split()]
+    physical = {}
+    row = 1
+    for d, count in enumerate(counts):
+        for _ in range(count):
+            v = ent[row].split()
+            row += 1
+            at = 4 if d == 0 else 7
+            n = int(v[at])
+            physical[(d, int(v[0]))] = [int(x) for x in v[at + 1:at + 1 + n]]
+    dim = max(d for d, c in enumerate(counts) if c > 0)
+    want = tag_of[(dim - 1, group)]
+    coords, nodes = {}, sections["Nodes"]
+    blocks, row = int(nodes[0].split()[0]), 1
+    for _ in range(blocks):
+        count = int(nodes[row].split()[3])
+        tags = [int(t) for t in nodes[row + 1:row + 1 + count]]
+        for k, t in enumerate(tags):
+            coords[t] = [float(x) for x in nodes[row + 1 + count + k].split()[:3]]
+        row += 1 + 2 * count
+    wall, cells, elements = set(), 0, sections["Elements"]
+    blocks, row = int(elements[0].split()[0]), 1
+    for _ in range(blocks):
+        d, entity, _, count = (int(x) for x in elements[row].split())
+        if d == dim:
+            cells += count
+        if d == dim - 1 and want in physical.get((d, entity), []):
+            for line in elements[row + 1:row + 1 + count]:
+                wall.update(int(x) for x in line.split()[1:])
+        row += 1 + count
+    return dim, np.array([coords[n] for n in sorted(wall)]), cells
 
 
 def node_coordinates():

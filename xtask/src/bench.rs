@@ -170,7 +170,8 @@ where
         .with_context(|| format!("{flag}: a comma-separated list, e.g. {example}"))
 }
 
-fn rayon_threads() -> String {
+/// The thread count hocurve runs with (RAYON_NUM_THREADS, else the machine's).
+pub(crate) fn rayon_threads() -> String {
     std::env::var("RAYON_NUM_THREADS").unwrap_or_else(|_| {
         std::thread::available_parallelism()
             .map(|n| n.to_string())

@@ -26,7 +26,8 @@
 //! `cargo xtask verify --review` first re-records the snapshots for review (`cargo insta
 //! review` if installed). `cargo xtask bench` times our curving of the sphere against Gmsh's
 //! (`xtask/src/bench.rs`); `cargo xtask bench --scale` curves sphere meshes of about 100 k,
-//! 280 k and 950 k tetrahedra at p = 3 beside Gmsh's projection (`xtask/src/scale.rs`).
+//! 280 k and 950 k tetrahedra at p = 3 beside Gmsh's projection (`xtask/src/scale.rs`);
+//! `cargo xtask bench --layers` times the boundary-layer meshes (`xtask/src/layers.rs`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -36,6 +37,7 @@ use anyhow::{bail, Context, Result};
 mod bench;
 mod cad;
 mod curved_interop;
+mod layers;
 mod paper;
 mod scale;
 mod snapshots;
@@ -57,10 +59,11 @@ fn main() -> Result<()> {
             None => Ok(()),
         },
         Some("bench") if args[1..].iter().any(|a| a == "--scale") => scale::scale(&args[1..]),
+        Some("bench") if args[1..].iter().any(|a| a == "--layers") => layers::layers(),
         Some("bench") => bench::bench(&args[1..]),
         _ => {
             eprintln!(
-                "usage: cargo xtask verify [--offline] [--skip-lint] [--review] [--full]\n       cargo xtask cad [--full]\n       cargo xtask interop [--offline]\n       cargo xtask curved-interop [--offline]\n       cargo xtask snapshots\n       cargo xtask paper\n       cargo xtask interpolation\n       cargo xtask bench [--orders 2,3,4,5] [--gmsh-timeout 120]"
+                "usage: cargo xtask verify [--offline] [--skip-lint] [--review] [--full]\n       cargo xtask cad [--full]\n       cargo xtask interop [--offline]\n       cargo xtask curved-interop [--offline]\n       cargo xtask snapshots\n       cargo xtask paper\n       cargo xtask interpolation\n       cargo xtask bench [--orders 2,3,4,5] [--gmsh-timeout 120]\n       cargo xtask bench --scale\n       cargo xtask bench --layers"
             );
             bail!("unknown or missing task")
         }

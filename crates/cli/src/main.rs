@@ -139,6 +139,11 @@ struct MethodArgs {
     /// quadrilaterals, each thinner than half its width) move with the wall.
     #[arg(long)]
     elastic_layers: bool,
+    /// Keep the elastic material uniform on boundary-layer meshes. By default a mesh whose
+    /// cells at the curved boundary are stretched 10:1 or more is solved with each cell's
+    /// stiffness scaled by 1/|J| (small cells stiffer), so thin cells move rather than shear.
+    #[arg(long)]
+    uniform_stiffness: bool,
     /// Move only the boundary nodes onto the geometry (no elastic solve): for looking at
     /// the boundary placement.
     #[arg(long)]
@@ -349,6 +354,7 @@ impl MethodArgs {
         options.fix = self.fix.clone();
         options.boundary_only = self.boundary_only;
         options.layer_columns = !self.elastic_layers;
+        options.layer_stiffening = !self.uniform_stiffness;
         options.solve_region = self.solve_region;
         options.certify = !self.no_certify;
         options.untangle = !self.no_repair;

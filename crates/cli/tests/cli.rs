@@ -189,7 +189,8 @@ fn uncertified_elements_fail_the_run_and_are_named() {
         let refs: Vec<&str> = a.iter().map(String::as_str).collect();
         hocurve(&refs, dir.path())
     };
-    let out = run(&["--no-repair"]);
+    // Uniform material: stiffened from the start (the default on layers) it is valid.
+    let out = run(&["--no-repair", "--uniform-stiffness"]);
     assert!(!out.status.success());
     let err = stderr(&out);
     assert!(err.contains("not certified valid"), "{err}");
@@ -198,7 +199,7 @@ fn uncertified_elements_fail_the_run_and_are_named() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(!dir.path().join("out.vtu").exists());
 
-    let out = run(&["--no-repair", "--allow-invalid"]);
+    let out = run(&["--no-repair", "--uniform-stiffness", "--allow-invalid"]);
     assert!(!out.status.success());
     assert!(stderr(&out).contains("written anyway"), "{}", stderr(&out));
     assert!(dir.path().join("out.vtu").exists());
