@@ -279,9 +279,11 @@ fn report_matches(report: &Path, gmsh: &str) -> Result<()> {
         );
     }
     let bound = number(&ours, "min_scaled_jacobian_lower_bound")?;
-    // Null when Gmsh could not evaluate det J (`--distance-only`).
+    // Null when Gmsh could not evaluate det J (`--distance-only`). Gmsh's own round-off
+    // on the thinnest cells is ~1e-8: on the NACA section's trailing-edge fan (edges 1e-4
+    // at x = 1, p = 5) it samples Ĩ 1.3e-8 below the 0.43478261 of that straight cell.
     if let Some(sampled) = theirs["min_scaled_jacobian"].as_f64() {
-        if sampled < bound - 1e-9 {
+        if sampled < bound - 1e-7 {
             bail!("Gmsh samples Ĩ = {sampled:.6} below the certified bound {bound:.6}");
         }
     }
