@@ -85,7 +85,7 @@ pub fn layers() -> Result<()> {
             let report = out.join(format!("{name}_p{p}.json"));
             let _ = std::fs::remove_file(&report);
             eprintln!("==> {name}, p = {p}");
-            let status = Command::new(&hocurve)
+            let output = Command::new(&hocurve)
                 .current_dir(root())
                 .arg("curve")
                 .arg(mesh)
@@ -94,13 +94,20 @@ pub fn layers() -> Result<()> {
                 .arg("--report")
                 .arg(&report)
                 .stdout(std::process::Stdio::null())
-                .stderr(std::process::Stdio::null())
-                .status()
+                .output()
                 .context("running hocurve")?;
             let json: Option<Value> = std::fs::read_to_string(&report)
                 .ok()
                 .and_then(|s| serde_json::from_str(&s).ok());
-            rows.push((name, p, status.success(), json));
+            // A rejected run writes nothing, not even its report: keep its reason.
+            let reason: String = String::from_utf8_lossy(&output.stderr)
+                .lines()
+                .last()
+                .unwrap_or_default()
+                .chars()
+                .take(110)
+                .collect();
+            rows.push((name, p, output.status.success(), json, reason));
         }
     }
     println!();
@@ -112,9 +119,9 @@ pub fn layers() -> Result<()> {
         "{:<22} {:>2} {:>7} {:>8} {:>8} {:>4} {:>7} {:>6} {:>8} {:>8} {:>7}",
         "mesh", "p", "cells", "stretch", "dofs", "its", "columns", "s", "MB", "Ĩ bound", "Ĩ 2p"
     );
-    for (name, p, ok, json) in rows {
+    for (name, p, ok, json, reason) in rows {
         let Some(r) = json else {
-            println!("{name:<22} {p:>2}  failed without a report");
+            println!("{name:<22} {p:>2}  {reason}");
             continue;
         };
         let f = |key: &str| r[key].as_f64().unwrap_or(f64::NAN);
