@@ -45,6 +45,7 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "fixtures"))
+import make_cad_fixtures  # noqa: E402
 import make_fixtures  # noqa: E402
 
 
@@ -99,11 +100,7 @@ def measure(p):
 def cylinder_field():
     """Issue 21's cylinder boundary layer (deterministic: one thread, fixed seed)."""
     import math
-    gmsh.initialize(["-noenv"])
-    gmsh.option.setNumber("General.Terminal", 0)
-    gmsh.option.setNumber("General.NumThreads", 1)
-    gmsh.option.setNumber("Mesh.RandomSeed", 1)
-    gmsh.model.add("cylinder_field")
+    make_cad_fixtures.start("cylinder_field")
     geo = gmsh.model.geo
     r, half, lc = 0.5, 2.0, 0.3
     centre = geo.addPoint(0, 0, 0)
@@ -125,22 +122,8 @@ def cylinder_field():
     field.setAsBoundaryLayer(f)
     geo.extrude([(2, section)], 0, 0, 1, numElements=[8], recombine=True)
     geo.synchronize()
-    volumes = [t for _, t in gmsh.model.getEntities(3)]
-    groups = {"cylinder": [], "ends": [], "farfield": []}
-    for d, t in gmsh.model.getBoundary([(3, v) for v in volumes], combined=True,
-                                       oriented=False):
-        corners = [gmsh.model.getValue(0, p, []) for _, p in
-                   gmsh.model.getBoundary([(d, t)], recursive=True)]
-        zs = [c[2] for c in corners]
-        if max(zs) - min(zs) < 1e-9:
-            groups["ends"].append(t)
-        elif max(math.hypot(c[0], c[1]) for c in corners) < r + 1e-6:
-            groups["cylinder"].append(t)
-        else:
-            groups["farfield"].append(t)
-    for name, tags in groups.items():
-        gmsh.model.setPhysicalName(2, gmsh.model.addPhysicalGroup(2, tags), name)
-    gmsh.model.setPhysicalName(3, gmsh.model.addPhysicalGroup(3, volumes), "fluid")
+    make_cad_fixtures.extruded_groups(
+        "cylinder", lambda d, t: make_cad_fixtures.inside_radius(d, t, r))
     gmsh.model.mesh.generate(3)
 
 
