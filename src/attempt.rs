@@ -3,6 +3,7 @@
 //! (equispaced nodes, boundary nodes projected back onto the geometry), and its certified
 //! quality.
 
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 use hocurve_elastic::{
@@ -17,7 +18,7 @@ use hocurve_quality::MeshQuality;
 use crate::active_region::{solve_in_active_region, solve_whole_mesh, SolveRegion};
 use crate::boundary_conditions::{boundary_conditions, sliding_groups};
 use crate::certification::{affine_cells, assess_certified_with_affine, invalid_elements};
-use crate::layer_columns::layer_columns;
+use crate::layer_columns::{layer_columns, layer_columns_by};
 use crate::pipeline::{CurveError, CurveOptions, CurvedMesh, Geometry, Progress, Step};
 use crate::report::{CurveReport, SlidingGroup, StepTimings};
 
@@ -293,11 +294,32 @@ impl Attempt {
             )?;
         }
         if let (Some(geometry), Some(targets)) = (geometry, &self.targets) {
+            let before: BTreeMap<u32, [f64; 3]> = targets
+                .entities
+                .keys()
+                .map(|&n| (n, self.mesh.nodes[n as usize]))
+                .collect();
             self.max_geometry_distance = project_nodes_onto_geometry(
                 geometry.model,
                 &targets.entities,
                 &mut self.mesh.nodes,
             )?;
+            if self.layer_columns.0 > 0 {
+                // The projection moved the wall's nodes by the interpolant's distance from
+                // the geometry, which can exceed a first layer's height: the cells stacked
+                // on the wall move with it, as in the solve.
+                let nodes = &self.mesh.nodes;
+                let columns = layer_columns_by(&self.mesh, |n| {
+                    let (b, x) = (before.get(&n)?, nodes[n as usize]);
+                    Some([x[0] - b[0], x[1] - b[1], x[2] - b[2]])
+                })?;
+                for (&n, u) in &columns.displacement {
+                    let x = &mut self.mesh.nodes[n as usize];
+                    for d in 0..3 {
+                        x[d] += u[d];
+                    }
+                }
+            }
         }
         timings.boundary_nodes += t.elapsed().as_secs_f64();
         Ok(self)

@@ -72,11 +72,20 @@ pub(crate) fn layer_columns(
     mesh: &HighOrderMesh,
     targets: &BTreeMap<u32, [f64; 3]>,
 ) -> Result<LayerColumns, CurveError> {
-    let displacement_of = |n: u32| -> Option<[f64; 3]> {
+    layer_columns_by(mesh, |n| {
         let x = targets.get(&n)?;
         let x0 = mesh.nodes[n as usize];
         Some([x[0] - x0[0], x[1] - x0[1], x[2] - x0[2]])
-    };
+    })
+}
+
+/// The columns of `mesh` standing on the facets whose every node has a wall displacement
+/// `displacement_of(node)`, some of it non-zero: the displacement of their nodes. Only the
+/// vertices' positions are read (the stacking and thinness), so `mesh` may be curved.
+pub(crate) fn layer_columns_by(
+    mesh: &HighOrderMesh,
+    displacement_of: impl Fn(u32) -> Option<[f64; 3]>,
+) -> Result<LayerColumns, CurveError> {
     let topology = mesh.topology();
     let mut out = LayerColumns::default();
     let mut in_column = BTreeSet::new();
@@ -133,7 +142,7 @@ pub(crate) fn layer_columns(
             let shape = mesh.cells[c].kind;
             for (j, xi) in references[&shape].points().iter().enumerate() {
                 let n = mesh.cells[c].nodes[j];
-                if targets.contains_key(&n) || out.displacement.contains_key(&n) {
+                if displacement_of(n).is_some() || out.displacement.contains_key(&n) {
                     continue;
                 }
                 let (w, _) = shape.vertex_shape_functions(*xi);

@@ -520,6 +520,38 @@ fn boundary_layer_columns_move_each_wall_normal_line_with_its_wall_node() {
     assert!(worst > 1e-6, "{worst}");
 }
 
+/// The written mesh's wall nodes are projected back onto the geometry after the equispaced
+/// resampling; on the NACA section's nose (one wall edge turning through 65°) that moves
+/// them by more than the first layer's height (1e-4), and the first-layer cells stacked
+/// on them must move along (as the columns did in the solve). At p = 5 with Fekete nodes
+/// inside, every element is then certified, as valid as when curved with equispaced nodes
+/// throughout (no resampling); without it two cells at the nose were inverted.
+#[test]
+fn written_wall_nodes_carry_their_boundary_layer_columns_along() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let linear = hocurve::io::read_msh(&root.join("fixtures/cad/naca_layers_2d.msh")).unwrap();
+    let model =
+        hocurve::nurbs::iges::read_iges_geometry(&root.join("fixtures/cad/naca_layers_2d.igs"))
+            .unwrap();
+    let geometry = Geometry {
+        model: &model,
+        rule: AssociationRule::NameThenNearest,
+    };
+    let mut bounds = Vec::new();
+    for family in [NodeFamily::Fekete, NodeFamily::Equispaced] {
+        let mut options = CurveOptions::new(5);
+        options.family = family;
+        options.untangle = false;
+        let curved = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+        assert_eq!(curved.report.invalid_elements, 0, "{family:?}");
+        assert_eq!(curved.report.uncertified_after_solve, 0, "{family:?}");
+        assert!(curved.report.layer_column_cells > 0);
+        assert!(curved.report.max_geometry_distance < 1e-12);
+        bounds.push(curved.report.min_scaled_jacobian_lower_bound.unwrap());
+    }
+    assert!((bounds[0] - bounds[1]).abs() < 1e-3, "{bounds:?}");
+}
+
 /// Boundary-layer meshes are solved with each cell's stiffness scaled by 1/|J| from the
 /// start (issue 21, point 3): the thin tetrahedral layers on a coarse sphere (first height
 /// 1e-3 under wall edges up to 1 long) are detected as such, and the stiffened first solve leaves fewer elements
