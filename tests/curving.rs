@@ -450,6 +450,98 @@ fn an_extruded_boundary_layer_slides_its_two_end_planes_by_default() {
     assert!(fixed.report.invalid_elements > 0);
 }
 
+/// For a boundary layer extruded along the rays from the origin off a wall of radius
+/// `radius` by `thickness`, the largest difference between the displacement of a layer node
+/// and that of the wall node on its ray, and how many layer nodes were compared. The straight
+/// layer is its wall facets scaled about the origin, by 1 at the wall up to
+/// (radius + thickness) / radius at its top, so every straight layer node lies on the ray of
+/// a wall node.
+fn column_deviation(curved: &CurvedMesh, wall: &str, radius: f64, thickness: f64) -> (f64, usize) {
+    let straight = |n: usize| {
+        let (x, u) = (curved.mesh.nodes[n], curved.displacement[n]);
+        [x[0] - u[0], x[1] - u[1], x[2] - u[2]]
+    };
+    let norm = |x: [f64; 3]| (x[0] * x[0] + x[1] * x[1] + x[2] * x[2]).sqrt();
+    let ray = |x: [f64; 3]| {
+        let r = norm(x);
+        [0, 1, 2].map(|d| (x[d] / r * 1e8).round() as i64)
+    };
+    let on_wall: BTreeMap<[i64; 3], (f64, [f64; 3])> = group_nodes(&curved.mesh, wall)
+        .iter()
+        .map(|&n| {
+            let x = straight(n as usize);
+            (ray(x), (norm(x), curved.displacement[n as usize]))
+        })
+        .collect();
+    let top = (radius + thickness) / radius;
+    let (mut worst, mut compared) = (0.0f64, 0);
+    for n in 0..curved.mesh.nodes.len() {
+        let x = straight(n);
+        let Some((r_wall, w)) = on_wall.get(&ray(x)) else {
+            continue;
+        };
+        let scale = norm(x) / r_wall;
+        if scale < 1.0 + 1e-9 || scale > top + 1e-9 {
+            continue;
+        }
+        let u = curved.displacement[n];
+        worst = worst.max(norm([u[0] - w[0], u[1] - w[1], u[2] - w[2]]));
+        compared += 1;
+    }
+    (worst, compared)
+}
+
+/// Prisms on the wall's triangles (Gmsh's extrudeBoundaryLayer, recombined; 6 layers from
+/// 1e-3 along the surface normals, then tetrahedra): every prism is in a column, and in each
+/// prism the nodes on one wall-normal line (same triangle coordinates ξ, η) move alike —
+/// with the wall node at the line's foot, the columns being stacked through the triangles.
+/// Solved by elasticity they do not.
+#[test]
+fn prism_columns_move_each_wall_normal_line_of_nodes_alike() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let linear =
+        hocurve::io::read_msh(&root.join("fixtures/cad/sphere_layers_prisms.msh")).unwrap();
+    let model = sphere_of_radius(1.0);
+    let geometry = by_name(&model);
+    let mut options = CurveOptions::new(3);
+    options.family = NodeFamily::Equispaced;
+    let reference = hocurve::nodes::ReferenceNodes::new(Shape::Prism, 3, NodeFamily::Equispaced);
+    // Largest spread of the displacement along a line of a prism, and the lines checked.
+    let spread = |curved: &CurvedMesh| -> (f64, usize) {
+        let (mut worst, mut lines) = (0.0f64, 0);
+        for cell in curved.mesh.cells.iter().filter(|c| c.kind == Shape::Prism) {
+            let mut first: BTreeMap<[i64; 2], [f64; 3]> = BTreeMap::new();
+            for (xi, &n) in reference.points().iter().zip(&cell.nodes) {
+                let key = [(xi[0] * 1e9).round() as i64, (xi[1] * 1e9).round() as i64];
+                let u = curved.displacement[n as usize];
+                let w = *first.entry(key).or_insert(u);
+                let d =
+                    ((u[0] - w[0]).powi(2) + (u[1] - w[1]).powi(2) + (u[2] - w[2]).powi(2)).sqrt();
+                worst = worst.max(d);
+            }
+            lines += first.len();
+        }
+        (worst, lines)
+    };
+    let curved = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    let prisms = linear
+        .cells
+        .iter()
+        .filter(|c| c.kind == Shape::Prism)
+        .count();
+    assert!(prisms > 1000, "{prisms}");
+    assert_eq!(curved.report.layer_column_cells, prisms);
+    assert_eq!(curved.report.layer_columns * 6, prisms);
+    assert_eq!(curved.report.invalid_elements, 0);
+    let (worst, lines) = spread(&curved);
+    // The 10 nodes of a cubic triangle, each the foot of one line.
+    assert_eq!(lines, prisms * 10);
+    assert!(worst < 1e-15, "{worst}");
+    options.layer_columns = false;
+    let solved = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
+    assert!(spread(&solved).0 > 1e-6);
+}
+
 /// Boundary-layer columns (`src/layer_columns.rs`) on the 2D section of the extruded
 /// cylinder layer: each of the 24 wall edges carries a column of 10 quadrilaterals (heights
 /// 1e-4 · 1.3^k), and every node of those cells moves exactly as the wall node on its ray
@@ -467,44 +559,7 @@ fn boundary_layer_columns_move_each_wall_normal_line_with_its_wall_node() {
     let thickness: f64 = (0..10).map(|k| 1e-4 * 1.3f64.powi(k)).sum();
     let mut options = CurveOptions::new(3);
     options.family = NodeFamily::Equispaced;
-    // Largest difference between a layer node's displacement and its wall node's, and how
-    // many layer nodes were compared.
-    let deviation = |curved: &CurvedMesh| -> (f64, usize) {
-        let straight = |n: usize| {
-            let (x, u) = (curved.mesh.nodes[n], curved.displacement[n]);
-            [x[0] - u[0], x[1] - u[1]]
-        };
-        let wall: Vec<(f64, f64, [f64; 3])> = group_nodes(&curved.mesh, "cylinder")
-            .iter()
-            .map(|&n| {
-                let x = straight(n as usize);
-                (
-                    x[1].atan2(x[0]),
-                    x[0].hypot(x[1]),
-                    curved.displacement[n as usize],
-                )
-            })
-            .collect();
-        let (mut worst, mut compared) = (0.0f64, 0);
-        for n in 0..curved.mesh.nodes.len() {
-            let x = straight(n);
-            let angle = x[1].atan2(x[0]);
-            // The straight layer is its wall edges scaled about the centre, by 1 at the wall
-            // up to (0.5 + thickness) / 0.5 at its top.
-            let Some((_, r_wall, w)) = wall.iter().find(|(a, _, _)| (a - angle).abs() < 1e-9)
-            else {
-                continue;
-            };
-            let scale = x[0].hypot(x[1]) / r_wall;
-            if scale < 1.0 + 1e-9 || scale > (0.5 + thickness) / 0.5 + 1e-9 {
-                continue;
-            }
-            let u = curved.displacement[n];
-            worst = worst.max((u[0] - w[0]).hypot(u[1] - w[1]));
-            compared += 1;
-        }
-        (worst, compared)
-    };
+    let deviation = |curved: &CurvedMesh| column_deviation(curved, "cylinder", 0.5, thickness);
     let columns = curve_mesh(&linear, Some(geometry), &options, &mut |_| {}).unwrap();
     assert_eq!(columns.report.layer_columns, 24);
     assert_eq!(columns.report.layer_column_cells, 240);
