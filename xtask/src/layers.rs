@@ -3,9 +3,10 @@
 //!
 //! The meshes: the CAD fixtures with layers (`fixtures/cad/`: the extruded cylinder as
 //! hexahedra and prisms, split into tetrahedra; the extruded NACA 0012 section likewise;
-//! the tetrahedral layers around a sphere) and the issue's own case, an extruded cylinder
-//! section with a Gmsh BoundaryLayer field (~31 k prisms, made by `bench_gmsh.py
-//! cylinder_field`). Printed per run: time, peak memory, unknowns and CG iterations, the
+//! the tetrahedral and prismatic layers around a sphere), the issue's own case, an extruded
+//! cylinder section with a Gmsh BoundaryLayer field (~31 k prisms, made by `bench_gmsh.py
+//! cylinder_field`), and issue 20's boundary-layer tetrahedra (25 k, stretch ~290: the
+//! sphere layers at surface size 0.2). Printed per run: time, peak memory, unknowns and CG iterations, the
 //! cells moved as boundary-layer columns, the certified lower bound of Ĩ and the Ĩ
 //! sampled at the degree-2p points, or why the run failed. Gmsh's projection is not timed
 //! here: it needs the CAD model in Gmsh, which the fixtures do not carry.
@@ -19,7 +20,7 @@ use serde_json::Value;
 use crate::{cargo, python_env, root, run, target_dir};
 
 /// Mesh (under the repository), geometry, orders.
-const CASES: [(&str, &str, &[usize]); 7] = [
+const CASES: [(&str, &str, &[usize]); 9] = [
     (
         "fixtures/cad/cylinder_layers.msh",
         "fixtures/cad/cylinder_layers.json",
@@ -51,9 +52,19 @@ const CASES: [(&str, &str, &[usize]); 7] = [
         &[4],
     ),
     (
+        "fixtures/cad/sphere_layers_prisms.msh",
+        "fixtures/cad/sphere_layers_prisms.json",
+        &[2, 3, 4, 5],
+    ),
+    (
         "target/bench-layers/cylinder_field.msh",
         "fixtures/cad/cylinder_layers.json",
         &[2, 3],
+    ),
+    (
+        "target/bench-layers/sphere_layers_25k.msh",
+        "target/bench-layers/sphere_layers_25k.json",
+        &[4],
     ),
 ];
 
@@ -68,6 +79,15 @@ pub fn layers() -> Result<()> {
     let hocurve = target_dir().join("release").join("hocurve");
     let out = root().join("target").join("bench-layers");
     std::fs::create_dir_all(&out)?;
+    run(
+        "Gmsh makes 25 k boundary-layer tetrahedra (make_cad_fixtures.sphere_layers, size 0.2)",
+        Command::new(&python).arg("-c").arg(format!(
+            "import sys; sys.path.insert(0, {fixtures:?}); import make_cad_fixtures as m; \
+             m.OUT = {out:?}; m.sphere_layers('sphere_layers_25k', lc=0.2)",
+            fixtures = root().join("fixtures").display().to_string(),
+            out = out.display().to_string(),
+        )),
+    )?;
     run(
         "Gmsh makes issue 21's cylinder boundary layer (bench_gmsh.py cylinder_field)",
         Command::new(&python)
