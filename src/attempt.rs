@@ -294,17 +294,20 @@ impl Attempt {
             )?;
         }
         if let (Some(geometry), Some(targets)) = (geometry, &self.targets) {
-            let before: BTreeMap<u32, [f64; 3]> = targets
-                .entities
-                .keys()
-                .map(|&n| (n, self.mesh.nodes[n as usize]))
-                .collect();
+            // Where the projection starts from, when boundary-layer columns must follow it.
+            let before: Option<BTreeMap<u32, [f64; 3]>> = (self.layer_columns.0 > 0).then(|| {
+                targets
+                    .entities
+                    .keys()
+                    .map(|&n| (n, self.mesh.nodes[n as usize]))
+                    .collect()
+            });
             self.max_geometry_distance = project_nodes_onto_geometry(
                 geometry.model,
                 &targets.entities,
                 &mut self.mesh.nodes,
             )?;
-            if self.layer_columns.0 > 0 {
+            if let Some(before) = before {
                 // The projection moved the wall's nodes by the interpolant's distance from
                 // the geometry, which can exceed a first layer's height: the cells stacked
                 // on the wall move with it, as in the solve.
