@@ -7,7 +7,7 @@ use crate::validity::check_validity_where;
 use crate::{stretching, BezierOptions, QualityError, QualitySummary, Sampling, ValidityCheck};
 
 /// What [`assess`] computes.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct QualityOptions {
     /// Where det J is sampled for the scaled Jacobian.
     pub sampling: Sampling,

@@ -34,6 +34,7 @@ mod bernstein;
 mod bernstein_subdivision;
 mod bezier_map;
 mod bezier_simplex;
+mod bound_refinement;
 mod error;
 mod jacobian;
 mod plot;

@@ -38,6 +38,7 @@ use serde::Serialize;
 
 use crate::bezier_map::TensorJacobian;
 use crate::bezier_simplex::SimplexJacobian;
+use crate::bound_refinement::{extremes, Region, SimplexBisection};
 use crate::jacobian::{
     affine_determinant, check_cells, gather, min_max, scaled_ratio, JacobianSampler,
     JacobianWorkspace,
@@ -57,15 +58,25 @@ pub enum Validity {
 }
 
 /// Options of the Bézier validity check.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BezierOptions {
     /// Levels of subdivision before giving up (0: only the whole element).
     pub max_depth: usize,
+    /// When every element is valid, narrow the certified bounds of the elements that hold
+    /// the mesh's bound down ([`JacobianBezier::refine_bounds`]) until each certifies
+    /// Ĩ ≥ this fraction of the smallest Ĩ sampled on any element (0: no narrowing).
+    pub tightness: f64,
+    /// Regions one element may be split into while narrowing.
+    pub max_regions: usize,
 }
 
 impl Default for BezierOptions {
     fn default() -> Self {
-        BezierOptions { max_depth: 4 }
+        BezierOptions {
+            max_depth: 4,
+            tightness: 0.95,
+            max_regions: 1024,
+        }
     }
 }
 
@@ -236,6 +247,8 @@ pub struct JacobianBezier {
     /// Exact det J coefficients of triangles and tetrahedra, tried first: most elements
     /// are certified by them alone, without sampling det J and converting.
     simplex: Option<SimplexJacobian>,
+    /// Exact bisection of triangle and tetrahedron coefficients, for narrowing bounds.
+    bisection: Option<SimplexBisection>,
     root: JacobianSampler,
     /// The shared reference element, whose basis samples sub-elements.
     element: Arc<ReferenceElement>,
@@ -267,6 +280,7 @@ impl JacobianBezier {
             tensor: TensorJacobian::new(shape, order, family)?,
             simplex: SimplexJacobian::new(shape, order, family, &space)?,
             subdivision: space.subdivision(),
+            bisection: SimplexBisection::new(&space),
             space,
             root,
             element,
@@ -465,6 +479,139 @@ impl JacobianBezier {
         )
     }
 
+    /// Narrows the certified interval of Ĩ of a valid element (`check`, from
+    /// [`Self::check_with`]) by best-first subdivision (see [`crate::bound_refinement`]):
+    /// splits the region holding the smallest coefficient — or the largest, when that end of
+    /// the interval is relatively further from the values found — until the certified
+    /// lower bound of Ĩ reaches `target` or `max_regions` regions are in use. Returns
+    /// `check` with the narrower bounds (never wider ones); other verdicts are returned as
+    /// they are.
+    pub fn refine_bounds(
+        &self,
+        coords: &[[f64; 3]],
+        check: &ValidityCheck,
+        target: f64,
+        max_regions: usize,
+        ws: &mut BezierWorkspace,
+    ) -> ValidityCheck {
+        if check.validity != Validity::Valid || check.scaled_jacobian_lower_bound >= target {
+            return *check;
+        }
+        let Some((root, margin)) = self.root_coefficients(coords, ws) else {
+            return *check;
+        };
+        let reference = self.space.shape().vertices();
+        let mut corners = [[0.0; 3]; 4];
+        for (c, v) in corners.iter_mut().zip(reference.iter()) {
+            *c = *v;
+        }
+        let vertex_positions: &[usize] = match (&self.bisection, &self.subdivision) {
+            (Some(b), _) => b.vertices(),
+            (None, Some(s)) => s.vertices(),
+            (None, None) => return *check,
+        };
+        // det J's extremes among the values met (vertex coefficients of the regions).
+        let mut sampled = (f64::INFINITY, f64::NEG_INFINITY);
+        let note_values = |sampled: &mut (f64, f64), c: &[f64]| {
+            for &v in vertex_positions {
+                sampled.0 = sampled.0.min(c[v]);
+                sampled.1 = sampled.1.max(c[v]);
+            }
+        };
+        note_values(&mut sampled, &root);
+        let mut regions = vec![Region::new(root, 0.0, corners)];
+        let children = match (&self.bisection, &self.subdivision) {
+            (Some(_), _) => 2,
+            (None, Some(s)) => s.len(),
+            (None, None) => return *check,
+        };
+        let mut line = Vec::new();
+        let mut best = *check;
+        loop {
+            let ((lower, low_at), (upper, high_at)) = extremes(&regions);
+            let (lower, upper) = (lower - margin, upper + margin);
+            if !(lower.is_finite() && upper.is_finite()) {
+                break;
+            }
+            if lower > 0.0 && lower / upper > best.scaled_jacobian_lower_bound {
+                best.min_jacobian_lower_bound = best.min_jacobian_lower_bound.max(lower);
+                best.max_jacobian_upper_bound = best.max_jacobian_upper_bound.min(upper);
+                best.scaled_jacobian_lower_bound = lower / upper;
+            }
+            if best.scaled_jacobian_lower_bound >= target
+                || regions.len() + children - 1 > max_regions
+            {
+                break;
+            }
+            // Split where the interval is relatively loosest (the smallest coefficient
+            // while it is not yet positive: the valid element's check got there by splitting).
+            let at = if lower <= 0.0 || sampled.0 / lower >= upper / sampled.1 {
+                low_at
+            } else {
+                high_at
+            };
+            let region = regions.swap_remove(at);
+            let scale = region.c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            match (&self.bisection, &self.subdivision) {
+                (Some(bisection), _) => {
+                    let n = bisection.corners();
+                    let (i, j) = region.longest_edge(n);
+                    let error = region.error + bisection.degree() as f64 * f64::EPSILON * scale;
+                    let (mut a, mut b) = (Vec::new(), Vec::new());
+                    bisection.bisect(&region.c, (i, j), &mut a, &mut b, &mut line);
+                    let m = mid(region.corners[i], region.corners[j]);
+                    let (mut ca, mut cb) = (region.corners, region.corners);
+                    ca[j] = m;
+                    cb[i] = m;
+                    note_values(&mut sampled, &a);
+                    note_values(&mut sampled, &b);
+                    regions.push(Region::new(a, error, ca));
+                    regions.push(Region::new(b, error, cb));
+                }
+                (None, Some(sub)) => {
+                    let growth = (sub.factors() * sub.longest_factor()) as f64 * f64::EPSILON;
+                    for child in 0..sub.len() {
+                        let mut d = Vec::new();
+                        sub.child(child, &region.c, &mut d, &mut ws.tmp);
+                        note_values(&mut sampled, &d);
+                        regions.push(Region::new(d, region.error + growth * scale, corners));
+                    }
+                }
+                (None, None) => break,
+            }
+        }
+        if sampled.0 > 0.0 && sampled.1 > 0.0 {
+            best.scaled_jacobian_upper_bound =
+                best.scaled_jacobian_upper_bound.min(sampled.0 / sampled.1);
+        }
+        best.regions += regions.len();
+        best
+    }
+
+    /// det J's Bernstein coefficients on the whole element and a bound on their rounding:
+    /// exact from the map's control points where the shape allows, else from samples.
+    fn root_coefficients(
+        &self,
+        coords: &[[f64; 3]],
+        ws: &mut BezierWorkspace,
+    ) -> Option<(Vec<f64>, f64)> {
+        if let Some(simplex) = &self.simplex {
+            return Some(simplex.coefficients(coords));
+        }
+        if let Some(tensor) = &self.tensor {
+            return Some(tensor.coefficients(coords));
+        }
+        let root = self.root.determinants_with(coords, &mut ws.jacobian);
+        let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        if !scale.is_finite() || scale == 0.0 {
+            return None;
+        }
+        let value_margin = (32.0 + coords.len() as f64) * f64::EPSILON * scale;
+        let mut c = root.to_vec();
+        self.space.values_to_coefficients(&mut c, &mut ws.tmp);
+        Some((c, value_margin * self.space.conversion_norm().max(1.0)))
+    }
+
     /// The check's result from what the regions found: an inversion, undecided leaves, the
     /// leaves' coefficient range, the sampled extremes.
     fn verdict(
@@ -531,7 +678,7 @@ pub(crate) fn check_validity_where(
         .map(|&s| Ok((s, JacobianBezier::new(s, mesh.order, mesh.family)?)))
         .collect::<Result<_, QualityError>>()?;
     // check_cells put every cell's shape in `checkers`.
-    Ok(mesh
+    let checks: Vec<ValidityCheck> = mesh
         .cells
         .par_iter()
         .enumerate()
@@ -558,7 +705,44 @@ pub(crate) fn check_validity_where(
             ws.coords = coords;
             check
         })
-        .collect())
+        .collect();
+    Ok(narrow_bounds(mesh, &checkers, checks, options))
+}
+
+/// The checks with the certified bounds of the elements below the target of
+/// [`BezierOptions::tightness`] narrowed, when every element is valid: the mesh's certified
+/// min Ĩ then sits within that fraction of its sampled min, or as close as the region budget
+/// allows.
+fn narrow_bounds(
+    mesh: &HighOrderMesh,
+    checkers: &BTreeMap<Shape, JacobianBezier>,
+    mut checks: Vec<ValidityCheck>,
+    options: &BezierOptions,
+) -> Vec<ValidityCheck> {
+    if options.tightness <= 0.0 || checks.iter().any(|c| c.validity != Validity::Valid) {
+        return checks;
+    }
+    let sampled = checks
+        .iter()
+        .map(|c| c.scaled_jacobian_upper_bound)
+        .fold(f64::INFINITY, f64::min);
+    let target = options.tightness * sampled;
+    if target.is_nan() || target <= 0.0 {
+        return checks;
+    }
+    checks
+        .par_iter_mut()
+        .enumerate()
+        .filter(|(_, check)| check.scaled_jacobian_lower_bound < target)
+        .for_each_init(BezierWorkspace::default, |ws, (c, check)| {
+            let cell = &mesh.cells[c];
+            let mut coords = std::mem::take(&mut ws.coords);
+            gather(mesh, cell, &mut coords);
+            *check =
+                checkers[&cell.kind].refine_bounds(&coords, check, target, options.max_regions, ws);
+            ws.coords = coords;
+        });
+    checks
 }
 
 #[cfg(test)]

@@ -14,7 +14,14 @@ const ALL_TYPES: [Shape; 5] = [
 ];
 
 fn check_one(mesh: &HighOrderMesh, max_depth: usize) -> ValidityCheck {
-    check_validity(mesh, &BezierOptions { max_depth }).unwrap()[0]
+    check_validity(
+        mesh,
+        &BezierOptions {
+            max_depth,
+            ..BezierOptions::default()
+        },
+    )
+    .unwrap()[0]
 }
 
 /// Deterministic random points inside the reference element.
@@ -300,5 +307,77 @@ fn hexahedron_coefficients_match_det_j_by_1d_lagrange_products_within_their_erro
             assert!(error < 1e-3, "p = {p}: bound {error:e}");
         }
         assert!(worst <= error, "p = {p}");
+    }
+}
+
+#[test]
+fn narrowed_bounds_close_in_on_the_true_scaled_jacobian() {
+    // x = Aξ + (B/3)(ξ − 0.3)³: det J = A + B(ξ − 0.3)², smallest (A) inside at ξ = 0.3 (no
+    // lattice or subdivision point), largest at ξ = 1: Ĩ = A / (A + 0.49 B) exactly. The
+    // check's bound is far below it (its coefficients dip below A); refinement must reach
+    // 95 % of it without passing it.
+    let (a, b) = (0.1, 4.0);
+    let exact = a / (a + 0.49 * b);
+    for kind in ALL_TYPES {
+        let p = 3;
+        let mesh = single_element(kind, p, |x| {
+            [a * x[0] + b / 3.0 * (x[0] - 0.3).powi(3), x[1], x[2]]
+        });
+        let checker = JacobianBezier::new(kind, p, mesh.family).unwrap();
+        let coords: Vec<[f64; 3]> = mesh.cells[0]
+            .nodes
+            .iter()
+            .map(|&n| mesh.nodes[n as usize])
+            .collect();
+        let mut ws = BezierWorkspace::default();
+        let check = checker.check_with(&coords, &BezierOptions::default(), &mut ws);
+        assert_eq!(check.validity, Validity::Valid, "{kind}");
+        assert!(
+            check.scaled_jacobian_lower_bound < 0.9 * exact,
+            "{kind}: {check:?}"
+        );
+        let narrowed = checker.refine_bounds(&coords, &check, 0.95 * exact, 4096, &mut ws);
+        let (lo, hi) = (
+            narrowed.scaled_jacobian_lower_bound,
+            narrowed.scaled_jacobian_upper_bound,
+        );
+        assert!(
+            lo >= 0.95 * exact && lo <= exact + 1e-9,
+            "{kind}: {lo} vs {exact}"
+        );
+        assert!(hi >= exact - 1e-9, "{kind}: {hi} vs {exact}");
+        assert!(narrowed.min_jacobian_lower_bound <= a + 1e-9);
+        assert!(narrowed.max_jacobian_upper_bound >= a + 0.49 * b - 1e-9);
+        assert_eq!(narrowed.validity, Validity::Valid);
+        // With a budget of one region the bounds stay.
+        let kept = checker.refine_bounds(&coords, &check, 0.95 * exact, 1, &mut ws);
+        assert_eq!(
+            kept.scaled_jacobian_lower_bound,
+            check.scaled_jacobian_lower_bound
+        );
+    }
+}
+
+#[test]
+fn the_mesh_bound_is_narrowed_to_the_tightness_asked_for() {
+    let (a, b) = (0.1, 4.0);
+    let exact = a / (a + 0.49 * b);
+    for kind in [Shape::Tet, Shape::Hex] {
+        let mesh = single_element(kind, 3, |x| {
+            [a * x[0] + b / 3.0 * (x[0] - 0.3).powi(3), x[1], x[2]]
+        });
+        let loose = BezierOptions {
+            tightness: 0.0,
+            ..BezierOptions::default()
+        };
+        let before = check_validity(&mesh, &loose).unwrap()[0];
+        let after = check_validity(&mesh, &BezierOptions::default()).unwrap()[0];
+        assert!(before.scaled_jacobian_lower_bound < 0.9 * exact);
+        // The target is 95 % of the smallest value sampled, itself ≥ the exact Ĩ.
+        assert!(
+            after.scaled_jacobian_lower_bound >= 0.95 * exact
+                && after.scaled_jacobian_lower_bound <= exact + 1e-9,
+            "{kind}: {after:?}"
+        );
     }
 }
