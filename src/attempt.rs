@@ -14,6 +14,7 @@ use hocurve_geodesic::{place_boundary_nodes_with, project_nodes_onto_geometry, P
 use hocurve_mesh::{HighOrderMesh, LinearMesh};
 use hocurve_nodes::NodeFamily;
 use hocurve_quality::MeshQuality;
+use hocurve_untangle::NodeConstraint;
 
 use crate::active_region::{solve_in_active_region, solve_whole_mesh, SolveRegion};
 use crate::boundary_conditions::{boundary_conditions, sliding_groups};
@@ -73,6 +74,8 @@ pub(crate) struct Attempt {
     pub(crate) sliding_nodes: usize,
     /// The groups they slide on.
     pub(crate) sliding_groups: Vec<SlidingGroup>,
+    /// How each sliding node may move (for the repair, which must keep it on its plane).
+    pub(crate) sliding: BTreeMap<u32, NodeConstraint>,
     /// Boundary-layer columns moved with the wall, and their cells.
     pub(crate) layer_columns: (usize, usize),
     /// Whether the solve scaled each cell's stiffness by 1/|J| (a boundary-layer mesh, or
@@ -105,6 +108,7 @@ impl Attempt {
             max_geometry_distance: 0.0,
             sliding_nodes: 0,
             sliding_groups: Vec::new(),
+            sliding: BTreeMap::new(),
             layer_columns: (0, 0),
             stiffened: false,
             layer_stiffened: false,
@@ -169,6 +173,7 @@ impl Attempt {
                 attempt.layer_columns = (columns.columns, columns.cells);
             }
             attempt.sliding_nodes = bc.sliding.len() + bc.along_line.len();
+            attempt.sliding = sliding_constraints(&bc);
             attempt.sliding_groups = groups
                 .into_iter()
                 .map(|(name, by_default)| SlidingGroup { name, by_default })
@@ -373,6 +378,9 @@ impl Attempt {
             stiffened_resolve: None,
             untangled_elements: 0,
             untangle_rounds: 0,
+            reshaped_elements: 0,
+            reshaped_from: None,
+            reshape_below: options.reshape_below,
             unused_node_tags: Vec::new(),
             sliding_nodes: self.sliding_nodes,
             sliding_groups: self.sliding_groups,
@@ -430,4 +438,25 @@ pub(crate) fn curve_and_certify(
     let quality = assess_certified_with_affine(&attempt.mesh, options, Some(&affine))?;
     timings.quality += t.elapsed().as_secs_f64();
     Ok((attempt, quality))
+}
+
+/// The motion each sliding node of `bc` is allowed (prescribed nodes have none): in its
+/// plane, or along its line, with unit normals and directions.
+fn sliding_constraints(bc: &BoundaryConditions) -> BTreeMap<u32, NodeConstraint> {
+    let unit = |v: &[f64; 3]| {
+        let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        (n > 0.0 && n.is_finite()).then(|| [v[0] / n, v[1] / n, v[2] / n])
+    };
+    let planes = bc
+        .sliding
+        .iter()
+        .filter_map(|(&node, n)| Some((node, NodeConstraint::Plane(unit(n)?))));
+    let lines = bc
+        .along_line
+        .iter()
+        .filter_map(|(&node, d)| Some((node, NodeConstraint::Line(unit(d)?))));
+    planes
+        .chain(lines)
+        .filter(|(node, _)| !bc.prescribed.contains_key(node))
+        .collect()
 }

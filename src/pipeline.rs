@@ -166,6 +166,10 @@ pub struct CurveOptions {
     /// ([`crate::repair::jacobian_stiffening`]) from the start; false keeps the paper's
     /// uniform material (the repair may still stiffen).
     pub layer_stiffening: bool,
+    /// Reshape valid elements certified with Ĩ below this after the solve and repair (see
+    /// [`crate::repair::reshape_poor_elements`]; kept only where the certified min Ĩ
+    /// rises); 0 turns it off. Needs `certify`.
+    pub reshape_below: f64,
 }
 
 impl CurveOptions {
@@ -189,6 +193,7 @@ impl CurveOptions {
             stiffen: true,
             layer_columns: true,
             layer_stiffening: true,
+            reshape_below: crate::repair::RESHAPE_BELOW,
         }
     }
 }
@@ -391,6 +396,7 @@ pub fn curve_mesh(
     }
 
     let mut untangling = crate::repair::Untangling::default();
+    let mut reshaping = crate::repair::Reshaping::default();
     if options.untangle && options.certify && !options.boundary_only && association.is_some() {
         let on_geometry: Vec<u32> = attempt
             .targets
@@ -404,12 +410,26 @@ pub fn curve_mesh(
         (quality, untangling) = crate::repair::untangle_not_certified(
             &mut attempt.mesh,
             &attempt.straight,
-            on_geometry,
+            on_geometry.iter().copied(),
+            &attempt.sliding,
             &doubly_curved_cells,
             quality,
             &|mesh| Ok(assess_certified(mesh, options)?),
         )?;
         timings.repair += t.elapsed().as_secs_f64();
+        if options.reshape_below > 0.0 {
+            let t = Instant::now();
+            (quality, reshaping) = crate::repair::reshape_poor_elements(
+                &mut attempt.mesh,
+                &attempt.straight,
+                on_geometry,
+                &attempt.sliding,
+                options.reshape_below,
+                quality,
+                &|mesh| Ok(assess_certified(mesh, options)?),
+            )?;
+            timings.repair += t.elapsed().as_secs_f64();
+        }
     }
     timings.total = start.elapsed().as_secs_f64();
     let association = association.as_ref().map(|(_, a)| a);
@@ -427,5 +447,9 @@ pub fn curve_mesh(
     curved.report.stiffened_resolve = stiffened_resolve;
     curved.report.untangled_elements = untangling.elements;
     curved.report.untangle_rounds = untangling.rounds;
+    if reshaping.kept {
+        curved.report.reshaped_elements = reshaping.elements;
+        curved.report.reshaped_from = Some(reshaping.min_before);
+    }
     Ok(curved)
 }

@@ -101,6 +101,14 @@ pub struct CurveReport {
     pub untangled_elements: usize,
     /// Untangling rounds run (the patch reaches one more ring of cells each round).
     pub untangle_rounds: usize,
+    /// Valid elements certified below [`crate::repair::RESHAPE_BELOW`] (or the option's
+    /// threshold) whose patches were reshaped, raising the certified min Ĩ (0: none, or
+    /// the reshaping did not help and was undone).
+    pub reshaped_elements: usize,
+    /// The certified min Ĩ before that reshaping (None when none was kept).
+    pub reshaped_from: Option<f64>,
+    /// The threshold of the reshaping (0: off).
+    pub reshape_below: f64,
     /// Interior edges split before curving (the input cells holding them had two facets on
     /// one curved entity, which curving would open to a 180° corner with det J = 0).
     pub edges_split: usize,
@@ -178,6 +186,7 @@ impl CurveReport {
                 self.untangle_rounds, self.untangled_elements
             ));
         }
+
         steps.join(", then ")
     }
 }

@@ -150,6 +150,15 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             ),
         ));
     }
+    if let Some(from) = r.reshaped_from {
+        rows.push((
+            "reshaped",
+            format!(
+                "{} element(s) certified below Ĩ {:.2} reshaped (free nodes, sliding ones in their planes): min Ĩ {from:.4} before (--reshape-below 0 keeps them)",
+                r.reshaped_elements, r.reshape_below
+            ),
+        ));
+    }
     rows.push((
         "certified valid",
         match (r.certified_valid_elements, r.undecided_elements) {

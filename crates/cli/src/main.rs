@@ -144,6 +144,13 @@ struct MethodArgs {
     /// stiffness scaled by 1/|J| (small cells stiffer), so thin cells move rather than shear.
     #[arg(long)]
     uniform_stiffness: bool,
+
+    /// Reshape elements certified valid but with scaled Jacobian Ĩ below this after the
+    /// solve: the free nodes around them (and sliding boundary nodes, within their planes)
+    /// are optimised, and the result kept only if every element stays certified and the
+    /// mesh's certified min Ĩ rises. Nodes on the geometry never move. 0 turns it off
+    #[arg(long, default_value_t = hocurve::repair::RESHAPE_BELOW, value_name = "Q")]
+    reshape_below: f64,
     /// Move only the boundary nodes onto the geometry (no elastic solve): for looking at
     /// the boundary placement.
     #[arg(long)]
@@ -355,6 +362,17 @@ impl MethodArgs {
         options.boundary_only = self.boundary_only;
         options.layer_columns = !self.elastic_layers;
         options.layer_stiffening = !self.uniform_stiffness;
+        if !(0.0..1.0).contains(&self.reshape_below) {
+            bail!(
+                "--reshape-below {}: a scaled Jacobian threshold in [0, 1) (0 turns reshaping off)",
+                self.reshape_below
+            );
+        }
+        options.reshape_below = if self.no_repair {
+            0.0
+        } else {
+            self.reshape_below
+        };
         options.solve_region = self.solve_region;
         options.certify = !self.no_certify;
         options.untangle = !self.no_repair;

@@ -69,7 +69,33 @@ mod patch;
 mod tests;
 
 pub use energy::{inverse_mean_ratio, DistortionEnergy};
-pub use patch::{untangle, UntangleOptions, UntangleReport};
+pub use patch::{untangle, untangle_sliding, UntangleOptions, UntangleReport};
+
+/// How a boundary node that is not fixed may move while its patch is optimised.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum NodeConstraint {
+    /// In the plane through it with this unit normal (a sliding symmetry or end plane).
+    Plane([f64; 3]),
+    /// Along the line through it with this unit direction (where two sliding planes meet).
+    Line([f64; 3]),
+}
+
+impl NodeConstraint {
+    /// The part of a motion `g` this constraint allows: g − (g·n) n, or (g·d) d.
+    pub fn project(&self, g: [f64; 3]) -> [f64; 3] {
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        match *self {
+            NodeConstraint::Plane(n) => {
+                let t = dot(g, n);
+                [g[0] - t * n[0], g[1] - t * n[1], g[2] - t * n[2]]
+            }
+            NodeConstraint::Line(d) => {
+                let t = dot(g, d);
+                [t * d[0], t * d[1], t * d[2]]
+            }
+        }
+    }
+}
 
 /// Errors of this crate. Element and node indices are 0-based positions in the mesh.
 #[derive(Debug, thiserror::Error)]

@@ -2,6 +2,7 @@
 //! (Polak–Ribière⁺) with Armijo backtracking, in rounds of fixed regularisation δ.
 
 use crate::energy::DistortionEnergy;
+use crate::NodeConstraint;
 
 /// det T below which the regularisation stays on: δ² = ε (ε − min det T) (Escobar et al.
 /// 2003), so that δ shrinks as the patch untangles and is 0 once every point has
@@ -23,12 +24,23 @@ pub(crate) struct Outcome {
 
 /// Moves `x` (the free nodes) towards a minimum of `energy`, at most `max_iterations`
 /// iterations in all. `length` is the patch's edge length, the scale of the first step.
+/// `constraints` (per node; empty: none) keep sliding nodes in their plane or on their
+/// line: every gradient is projected onto the directions they may move in, so the search
+/// directions, combinations of projected gradients, never leave them.
 pub(crate) fn minimise(
     energy: &DistortionEnergy<'_>,
     x: &mut [[f64; 3]],
     length: f64,
     max_iterations: usize,
+    constraints: &[Option<NodeConstraint>],
 ) -> Outcome {
+    let project = |grad: &mut [[f64; 3]]| {
+        for (g, c) in grad.iter_mut().zip(constraints) {
+            if let Some(c) = c {
+                *g = c.project(*g);
+            }
+        }
+    };
     let dim = energy.dim;
     let n = x.len();
     let mut iterations = 0;
@@ -50,6 +62,7 @@ pub(crate) fn minimise(
         }
         last_delta = delta;
         let mut current = energy.evaluate(x, delta, Some(&mut grad));
+        project(&mut grad);
         if !current.energy.is_finite() {
             break;
         }
@@ -93,6 +106,7 @@ pub(crate) fn minimise(
             x.copy_from_slice(&trial);
             previous_grad.copy_from_slice(&grad);
             let next = energy.evaluate(x, delta, Some(&mut grad));
+            project(&mut grad);
             let decrease = current.energy - next.energy;
             current = next;
             // Polak–Ribière⁺: β = max(0, gᵀ(g − g_prev) / g_prevᵀ g_prev).

@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::energy::{inverse, CellTerm, DistortionEnergy, Slot};
 use crate::optimise::minimise;
-use crate::UntangleError;
+use crate::{NodeConstraint, UntangleError};
 
 /// Bernstein lattices larger than this are not sampled (high-order hexahedra: 3375 points
 /// at p = 5); the quadrature points and the element's nodes are, which still include the
@@ -61,6 +61,20 @@ pub fn untangle(
     fixed: &[u32],
     options: &UntangleOptions,
 ) -> Result<UntangleReport, UntangleError> {
+    untangle_sliding(mesh, straight, elements, fixed, &BTreeMap::new(), options)
+}
+
+/// [`untangle`] with boundary nodes that slide: a node of `sliding` (not in `fixed`) moves
+/// only as its [`NodeConstraint`] allows — within its plane or along its line, exactly, as
+/// the elastic solve's sliding conditions let it.
+pub fn untangle_sliding(
+    mesh: &mut HighOrderMesh,
+    straight: &[[f64; 3]],
+    elements: &[usize],
+    fixed: &[u32],
+    sliding: &BTreeMap<u32, NodeConstraint>,
+    options: &UntangleOptions,
+) -> Result<UntangleReport, UntangleError> {
     if straight.len() != mesh.nodes.len() {
         return Err(UntangleError::StraightNodes {
             expected: mesh.nodes.len(),
@@ -98,7 +112,15 @@ pub fn untangle(
                 .iter()
                 .map(|&n| mesh_ref.nodes[n as usize])
                 .collect();
-            let outcome = minimise(&energy, &mut x, length, options.max_iterations);
+            let constraints: Vec<Option<NodeConstraint>> =
+                variables.iter().map(|n| sliding.get(n).copied()).collect();
+            let outcome = minimise(
+                &energy,
+                &mut x,
+                length,
+                options.max_iterations,
+                &constraints,
+            );
             (variables, x, outcome.min_ratio, outcome.iterations)
         })
         .collect();

@@ -182,3 +182,72 @@ fn bad_arguments_are_errors() {
     let report = untangle(&mut mesh, &straight, &[], &[], &options).expect("nothing to do");
     assert_eq!(report.patches, 0);
 }
+
+/// Sliding boundary nodes (issue 21: end planes of extruded layers) move only within their
+/// plane or line: a vertex on the side y = 0 of the square (the face y = 0 of the cube),
+/// dragged along it past its neighbours so that its cells fold, stays folded when held and
+/// is untangled when it may slide in the plane y = 0 or along the x axis, its y exactly 0.
+#[test]
+fn sliding_nodes_are_untangled_within_their_plane_or_line() {
+    use crate::{untangle_sliding, NodeConstraint};
+    use std::collections::BTreeMap;
+    for (dim, constraint) in [
+        (2, NodeConstraint::Plane([0.0, 1.0, 0.0])),
+        (2, NodeConstraint::Line([1.0, 0.0, 0.0])),
+        (3, NodeConstraint::Plane([0.0, 1.0, 0.0])),
+    ] {
+        let at = [0.5, 0.0, if dim == 3 { 0.5 } else { 0.0 }];
+        let to = [0.97, 0.0, at[2]];
+        let (mut mesh, straight) = tangled(dim, 2, 2, at, to);
+        let bad = not_valid(&mesh);
+        assert!(!bad.is_empty(), "dim {dim}: the test mesh must be tangled");
+        let node = mesh
+            .nodes
+            .iter()
+            .position(|x| *x == to)
+            .expect("the dragged vertex") as u32;
+        let fixed: Vec<u32> = boundary(&mesh).into_iter().filter(|&n| n != node).collect();
+        // Held: nothing can move the folded vertex, so the cells stay tangled.
+        let mut held = mesh.clone();
+        untangle(
+            &mut held,
+            &straight,
+            &bad,
+            &boundary(&mesh),
+            &UntangleOptions::default(),
+        )
+        .expect("untangle");
+        assert_eq!(held.nodes[node as usize], to);
+        let sliding = BTreeMap::from([(node, constraint)]);
+        untangle_sliding(
+            &mut mesh,
+            &straight,
+            &bad,
+            &fixed,
+            &sliding,
+            &UntangleOptions::default(),
+        )
+        .expect("untangle");
+        let x = mesh.nodes[node as usize];
+        assert_eq!(not_valid(&mesh), Vec::<usize>::new(), "dim {dim}: {x:?}");
+        assert_eq!(x[1], 0.0, "dim {dim}: left its plane: {x:?}");
+        assert!(x[0] < 0.9, "dim {dim}: did not slide back: {x:?}");
+    }
+}
+
+#[test]
+fn a_constraint_keeps_the_part_of_a_motion_it_allows() {
+    use crate::NodeConstraint;
+    let g = [1.0, 2.0, 3.0];
+    assert_eq!(
+        NodeConstraint::Plane([0.0, 0.0, 1.0]).project(g),
+        [1.0, 2.0, 0.0]
+    );
+    assert_eq!(
+        NodeConstraint::Line([0.0, 1.0, 0.0]).project(g),
+        [0.0, 2.0, 0.0]
+    );
+    let s = 0.5f64.sqrt();
+    let p = NodeConstraint::Plane([s, s, 0.0]).project(g);
+    assert!((p[0] + 0.5).abs() < 1e-15 && (p[1] - 0.5).abs() < 1e-15 && p[2] == 3.0);
+}
