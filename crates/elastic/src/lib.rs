@@ -53,6 +53,7 @@ mod cell_runs;
 mod condensation;
 mod element_matrix;
 mod error_norm;
+mod extruded_factors;
 mod material;
 mod matrix_free;
 mod p_multigrid;

@@ -19,6 +19,9 @@ pub(crate) struct ReferenceStiffness {
     pub dim: usize,
     /// Number of nodes n.
     pub len: usize,
+    /// Order and node family of the element.
+    pub order: usize,
+    pub family: NodeFamily,
     /// Vertex shape functions Nᵥ(ξⱼ) at each node ξⱼ (`[j][v]`): the straight-sided map and
     /// the p = 1 → p prolongation.
     pub vertex_weights: Vec<[f64; 8]>,
@@ -69,6 +72,8 @@ impl ReferenceStiffness {
             shape,
             dim,
             len,
+            order,
+            family,
             vertex_weights,
             simplex_stiffness,
             stiffness_rule,

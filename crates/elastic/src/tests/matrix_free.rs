@@ -160,6 +160,12 @@ fn the_cell_by_cell_action_equals_the_assembled_condensed_matrix() {
         ),
         (hocurve_testmeshes::unit_square(3, Shape::Quad, 0.2), 3),
         (mixed_square(), 2),
+        // From p = 4 by sum factorisation (perturbed cells: per-point Jacobians).
+        (
+            hocurve_testmeshes::unit_cube(1, hocurve_testmeshes::Fill::HexPrism, 0.2),
+            4,
+        ),
+        (hocurve_testmeshes::unit_square(2, Shape::Quad, 0.2), 5),
     ] {
         let (mesh, constraints, stiffening) = system(&linear, p);
         assert!(MatrixFreeStiffness::applies(&mesh));
