@@ -21,7 +21,7 @@
 use std::sync::atomic::AtomicU64;
 
 use faer::{Mat, Side};
-use hocurve_mesh::HighOrderMesh;
+use hocurve_mesh::{HighOrderMesh, Shape};
 use rayon::prelude::*;
 
 use crate::block_jacobi::{block_offsets, BlockJacobi};
@@ -76,10 +76,14 @@ impl ReferenceGradients {
     /// the stacked matrix [S_αβ] (size dim·n): R = Λ^½ Vᵀ over the eigenvalues above round-off.
     pub fn new(reference: &ReferenceStiffness) -> Result<Self, ElasticError> {
         let (dim, n) = (reference.dim, reference.len);
-        let Some(s) = &reference.simplex_stiffness else {
+        let matrices = reference
+            .simplex_stiffness
+            .as_ref()
+            .or(reference.prism_stiffness.as_ref());
+        let Some(s) = matrices else {
             return Err(ElasticError::Factorization {
                 what: "reference stiffness",
-                message: format!("{} is not a simplex", reference.shape.name()),
+                message: format!("{} has no reference matrices", reference.shape.name()),
             });
         };
         let size = dim * n;
@@ -265,9 +269,22 @@ impl MatrixFreeStiffness {
                 .flatten();
             // With sum factorisation, the rule's points in the factors' tensor order.
             let points = extruded.as_ref().map_or(&[][..], |f| f.points());
-            let reference = match stiffness.simplex_stiffness {
-                Some(_) => ReferenceGradients::new(stiffness)?,
-                None => ReferenceGradients::at_quadrature(stiffness, points),
+            // Extruded prisms are affine: like simplices, one Jacobian per cell and the
+            // reference factors of rank dim(∇ space) (36 rows at p = 3 against 64 points).
+            let affine_prisms = shape == Shape::Prism
+                && extruded.is_none()
+                && mesh
+                    .cells
+                    .par_iter()
+                    .filter(|c| c.kind == shape)
+                    .all(|cell| {
+                        let coords: Vec<[f64; 3]> =
+                            cell.nodes.iter().map(|&n| mesh.nodes[n as usize]).collect();
+                        stiffness.is_affine_prism(&coords)
+                    });
+            let reference = match (&stiffness.simplex_stiffness, affine_prisms) {
+                (Some(_), _) | (None, true) => ReferenceGradients::new(stiffness)?,
+                (None, false) => ReferenceGradients::at_quadrature(stiffness, points),
             };
             let runs = CellRuns::of_shape(mesh, shape, stiffness.len);
             let m = reference.m;

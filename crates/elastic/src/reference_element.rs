@@ -28,6 +28,9 @@ pub(crate) struct ReferenceStiffness {
     /// Simplices only: the reference matrices S_αβ[i][j] = ∫ ∂Φᵢ/∂ξ_α ∂Φⱼ/∂ξ_β dξ, at index
     /// `α * dim + β`, each n × n row-major.
     pub simplex_stiffness: Option<Vec<Vec<f64>>>,
+    /// Prisms only: the same matrices, which give the stiffness of prisms whose map is
+    /// affine (the top triangle a translate of the bottom one: extruded meshes).
+    pub prism_stiffness: Option<Vec<Vec<f64>>>,
     /// Degree-2p rule for the stiffness of non-affine cells.
     pub stiffness_rule: Arc<TabulatedBasis>,
     /// Degree-(2p + 2) rule for loads and error norms.
@@ -47,27 +50,12 @@ impl ReferenceStiffness {
             .collect();
         let stiffness_rule = element.quadrature(2 * order);
         let load_rule = element.quadrature(2 * order + 2);
-        let simplex_stiffness = matches!(shape, Shape::Tri | Shape::Tet).then(|| {
-            // ∂Φᵢ/∂ξ_α is of degree p − 1, so the degree-2p rule is exact.
-            let rule = &stiffness_rule;
-            let mut s = vec![vec![0.0; len * len]; dim * dim];
-            for q in 0..rule.len() {
-                let w = rule.weights()[q];
-                let g = rule.gradients(q);
-                for alpha in 0..dim {
-                    for beta in 0..dim {
-                        let m = &mut s[alpha * dim + beta];
-                        for i in 0..len {
-                            let wi = w * g[i][alpha];
-                            for j in 0..len {
-                                m[i * len + j] += wi * g[j][beta];
-                            }
-                        }
-                    }
-                }
-            }
-            s
-        });
+        // ∂Φᵢ/∂ξ_α is of degree p − 1 on simplices (and on the prism of degree 2p − 2 in the
+        // triangle's and 2p in ζ after multiplication), so the degree-2p rule is exact.
+        let simplex_stiffness = matches!(shape, Shape::Tri | Shape::Tet)
+            .then(|| reference_matrices(&stiffness_rule, dim, len));
+        let prism_stiffness =
+            (shape == Shape::Prism).then(|| reference_matrices(&stiffness_rule, dim, len));
         Ok(ReferenceStiffness {
             shape,
             dim,
@@ -76,6 +64,7 @@ impl ReferenceStiffness {
             family,
             vertex_weights,
             simplex_stiffness,
+            prism_stiffness,
             stiffness_rule,
             load_rule,
         })
@@ -115,6 +104,34 @@ impl ReferenceStiffness {
         Ok(out)
     }
 
+    /// Whether a prism with node coordinates `coords` has an affine map: its top triangle the
+    /// bottom one translated (vertex v + 3 = vertex v + the same vector) and every node at its
+    /// straight-sided position. Its Jacobian is then constant, with columns x₁ − x₀, x₂ − x₀,
+    /// x₃ − x₀.
+    pub fn is_affine_prism(&self, coords: &[[f64; 3]]) -> bool {
+        if self.prism_stiffness.is_none() || coords.len() != self.len {
+            return false;
+        }
+        let mut size = 0.0f64;
+        for v in 1..6 {
+            for d in 0..3 {
+                size = size.max((coords[v][d] - coords[0][d]).abs());
+            }
+        }
+        let tolerance = 1e-10 * size;
+        let height = |v: usize| [0, 1, 2].map(|d| coords[v + 3][d] - coords[v][d]);
+        let (h0, h1, h2) = (height(0), height(1), height(2));
+        let translated = (0..3)
+            .all(|d| (h1[d] - h0[d]).abs() <= tolerance && (h2[d] - h0[d]).abs() <= tolerance);
+        translated
+            && coords.iter().zip(&self.vertex_weights).all(|(x, w)| {
+                (0..3).all(|d| {
+                    let straight: f64 = (0..6).map(|v| w[v] * coords[v][d]).sum();
+                    (x[d] - straight).abs() <= tolerance
+                })
+            })
+    }
+
     /// Whether a simplex with node coordinates `coords` is straight-sided, i.e. every node
     /// sits where the affine map of the vertices puts it (so its Jacobian is constant).
     pub fn is_affine_simplex(&self, coords: &[[f64; 3]]) -> bool {
@@ -136,6 +153,28 @@ impl ReferenceStiffness {
             })
         })
     }
+}
+
+/// S_αβ[i][j] = ∫ ∂Φᵢ/∂ξ_α ∂Φⱼ/∂ξ_β dξ by `rule`, at index `α dim + β`, each n × n
+/// row-major.
+fn reference_matrices(rule: &TabulatedBasis, dim: usize, len: usize) -> Vec<Vec<f64>> {
+    let mut s = vec![vec![0.0; len * len]; dim * dim];
+    for q in 0..rule.len() {
+        let w = rule.weights()[q];
+        let g = rule.gradients(q);
+        for alpha in 0..dim {
+            for beta in 0..dim {
+                let m = &mut s[alpha * dim + beta];
+                for i in 0..len {
+                    let wi = w * g[i][alpha];
+                    for j in 0..len {
+                        m[i * len + j] += wi * g[j][beta];
+                    }
+                }
+            }
+        }
+    }
+    s
 }
 
 #[cfg(test)]

@@ -46,3 +46,32 @@ fn reference_stiffness_rows_sum_to_zero_and_traces_match_volume_integrals() {
         }
     }
 }
+
+#[test]
+fn a_prism_is_affine_when_its_top_is_a_translate_of_its_bottom() {
+    let reference = ReferenceStiffness::new(Shape::Prism, 2, NodeFamily::Fekete).unwrap();
+    let element = ReferenceElement::shared(Shape::Prism, 2, NodeFamily::Fekete).unwrap();
+    // x = A ξ + b: affine, with a shear.
+    let map = |xi: [f64; 3]| {
+        [
+            1.0 + 2.0 * xi[0] + 0.3 * xi[2],
+            -1.0 + 0.5 * xi[0] + 1.5 * xi[1] + 0.1 * xi[2],
+            0.7 * xi[2],
+        ]
+    };
+    let coords: Vec<[f64; 3]> = element.nodes().points().iter().map(|&xi| map(xi)).collect();
+    assert!(reference.is_affine_prism(&coords));
+    // The top triangle scaled (a boundary-layer prism on a curved wall): not affine.
+    let mut scaled = coords.clone();
+    for v in 3..6 {
+        scaled[v][0] *= 1.01;
+    }
+    assert!(!reference.is_affine_prism(&scaled));
+    // A curved edge: not affine.
+    let mut curved = coords.clone();
+    curved[6][1] += 1e-3;
+    assert!(!reference.is_affine_prism(&curved));
+    // Not a prism.
+    let tet = ReferenceStiffness::new(Shape::Tet, 2, NodeFamily::Fekete).unwrap();
+    assert!(!tet.is_affine_prism(&coords[..10]));
+}
