@@ -16,7 +16,7 @@
 //! split into tetrahedra (p = 2, 3) and its 2D section (p = 2..5), stretch 1200 to 2700,
 //! and the same three kinds around an extruded NACA 0012 section (IGES, stretch up to
 //! 5000; hexahedra and prisms p = 2..5, tetrahedra p = 2, 3, 2D p = 2..5); `verify --full`
-//! adds the cylinder's tetrahedra at p = 4, 5,
+//! adds both sets of tetrahedra at p = 4, 5,
 //! the finer boundary layer (stretch 288) and the wing body (trimmed B-spline faces in
 //! IGES); both take minutes per order.
 
@@ -158,6 +158,14 @@ const CASES: [Case; 15] = [
         group: "airfoil",
         full_only: false,
         orders: 2..=3,
+        vtk_from: usize::MAX,
+    },
+    Case {
+        name: "naca_layers_tets",
+        geometry: "igs",
+        group: "airfoil",
+        full_only: true,
+        orders: 4..=5,
         vtk_from: usize::MAX,
     },
     Case {
