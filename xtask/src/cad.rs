@@ -41,7 +41,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 15] = [
+const CASES: [Case; 16] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
