@@ -1,8 +1,10 @@
 //! Repair of the elements the certification did not find valid (beyond the paper, whose
 //! elastic analogy does not guarantee det J > 0): the nodes around them that lie on no
-//! boundary are untangled by a Jacobian-barrier optimisation ([`hocurve_untangle`]), the
-//! boundary nodes staying on the geometry, in patches that widen by one ring of cells per
-//! round (at most [`MAX_UNTANGLE_RINGS`]) until every element is certified.
+//! boundary (or slide on a plane, within it) are untangled by a Jacobian-barrier
+//! optimisation ([`hocurve_untangle`]), the boundary nodes staying on the geometry, in
+//! patches that widen by one ring of cells per round (at most [`MAX_UNTANGLE_RINGS`]) until
+//! every element is certified. Then valid elements certified with a poor Ĩ are reshaped by
+//! the same optimisation ([`reshape_poor_elements`]).
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -103,7 +105,8 @@ pub fn jacobian_stiffening(straight: &HighOrderMesh) -> Vec<f64> {
 /// widening them round by round, and returns the quality of the repaired mesh (measured by
 /// `assess`, which must certify). `straight` holds the straight-sided node positions (the
 /// shapes aimed at); `on_geometry` the nodes placed on the geometry, which stay where they
-/// are, like every other node on the boundary; `hopeless` the cells no node move can make
+/// are, like every other boundary node except the `sliding` ones, which move within their
+/// plane or line; `hopeless` the cells no node move can make
 /// valid (two faces on one curved entity meeting along an edge), which are not tried.
 pub(crate) fn untangle_not_certified(
     mesh: &mut HighOrderMesh,
