@@ -39,15 +39,10 @@ pub(crate) struct ExtrudedFactors {
     point: Vec<u32>,
     /// The rule's weight of each point, in the order of `point`.
     weight: Vec<f64>,
-    /// φ_t(ξ̄_q) at `q n_b + t`, and ∂_α φ_t(ξ̄_q) per base direction α likewise.
-    base_value: Vec<f64>,
-    base_grad: Vec<Vec<f64>>,
-    /// Both per (q, t) together, for the action: ∂_α φ_t(ξ̄_q) for the base directions, then
-    /// φ_t(ξ̄_q), at `(q n_b + t) dim + α`.
+    /// Per (q, t): ∂_α φ_t(ξ̄_q) for the base directions α, then φ_t(ξ̄_q), at
+    /// `(q n_b + t) dim + α`.
     base: Vec<f64>,
-    /// ψ_l(ζ_j) and ψ′_l(ζ_j) at `j n_l + l`, and the same at `l q_l + j`.
-    line_value: Vec<f64>,
-    line_deriv: Vec<f64>,
+    /// ψ_l(ζ_j) and ψ′_l(ζ_j) at `l q_l + j`.
     line_value_t: Vec<f64>,
     line_deriv_t: Vec<f64>,
 }
@@ -134,8 +129,7 @@ impl ExtrudedFactors {
         let (mut values, mut grads) = (vec![0.0; n], vec![[0.0; 3]; n]);
         // φ_t and its gradient: the basis of nodes (t, 0) on the line of node 0, where
         // ψ_0 = 1.
-        let mut base_value = vec![0.0; qb * nb];
-        let mut base_grad = vec![vec![0.0; qb * nb]; axis];
+        let mut base = vec![0.0; qb * nb * dim];
         for (q, b) in base_points.iter().enumerate() {
             let mut xi = *b;
             xi[axis] = line_nodes[0];
@@ -143,15 +137,14 @@ impl ExtrudedFactors {
             element.basis().eval_grad(xi, &mut grads);
             for t in 0..nb {
                 let at = node[t * nl];
-                base_value[q * nb + t] = values[at];
-                for (alpha, g) in base_grad.iter_mut().enumerate() {
-                    g[q * nb + t] = grads[at][alpha];
-                }
+                let entry = &mut base[(q * nb + t) * dim..][..dim];
+                entry[..axis].copy_from_slice(&grads[at][..axis]);
+                entry[axis] = values[at];
             }
         }
         // ψ_l and ψ′_l: the basis of nodes (0, l) at base node 0, where φ_0 = 1.
-        let mut line_value = vec![0.0; ql * nl];
-        let mut line_deriv = vec![0.0; ql * nl];
+        let mut line_value_t = vec![0.0; ql * nl];
+        let mut line_deriv_t = vec![0.0; ql * nl];
         for (j, &z) in line_points.iter().enumerate() {
             let mut xi = base_nodes[0];
             xi[axis] = z;
@@ -159,19 +152,10 @@ impl ExtrudedFactors {
             element.basis().eval_grad(xi, &mut grads);
             for l in 0..nl {
                 let at = node[l];
-                line_value[j * nl + l] = values[at];
-                line_deriv[j * nl + l] = grads[at][axis];
+                line_value_t[l * ql + j] = values[at];
+                line_deriv_t[l * ql + j] = grads[at][axis];
             }
         }
-        let transposed = |f: &[f64]| -> Vec<f64> {
-            let mut t = vec![0.0; f.len()];
-            for j in 0..ql {
-                for l in 0..nl {
-                    t[l * ql + j] = f[j * nl + l];
-                }
-            }
-            t
-        };
         let factors = ExtrudedFactors {
             nb,
             nl,
@@ -180,18 +164,9 @@ impl ExtrudedFactors {
             node: node.iter().map(|&b| b as u32).collect(),
             point: point.iter().map(|&k| k as u32).collect(),
             weight: point.iter().map(|&k| rule.weights()[k]).collect(),
-            base: (0..qb * nb)
-                .flat_map(|i| {
-                    let grads: Vec<f64> = base_grad.iter().map(|g| g[i]).collect();
-                    grads.into_iter().chain([base_value[i]])
-                })
-                .collect(),
-            base_value,
-            base_grad,
-            line_value_t: transposed(&line_value),
-            line_deriv_t: transposed(&line_deriv),
-            line_value,
-            line_deriv,
+            base,
+            line_value_t,
+            line_deriv_t,
         };
         factors.reproduces(reference).then_some(factors)
     }
@@ -199,7 +174,8 @@ impl ExtrudedFactors {
     /// Whether the factored gradients equal the tabulated ones at every rule point.
     fn reproduces(&self, reference: &ReferenceStiffness) -> bool {
         let rule = &reference.stiffness_rule;
-        let axis = reference.dim - 1;
+        let dim = reference.dim;
+        let axis = dim - 1;
         let largest = (0..rule.len())
             .flat_map(|k| rule.gradients(k).iter())
             .flat_map(|g| g.iter())
@@ -211,15 +187,21 @@ impl ExtrudedFactors {
                 for t in 0..self.nb {
                     for l in 0..self.nl {
                         let b = self.node[t * self.nl + l] as usize;
-                        let line = self.line_value[j * self.nl + l];
-                        for alpha in 0..axis {
-                            let f = self.base_grad[alpha][q * self.nb + t] * line;
-                            if (f - g[b][alpha]).abs() > FACTOR_CHECK * largest {
-                                return false;
+                        let base = &self.base[(q * self.nb + t) * dim..][..dim];
+                        let (line, slope) = (
+                            self.line_value_t[l * self.ql + j],
+                            self.line_deriv_t[l * self.ql + j],
+                        );
+                        // ∂_α Φ = ∂_α φ ψ in the base, φ ψ′ along the line.
+                        let factored = |alpha: usize| {
+                            if alpha < axis {
+                                base[alpha] * line
+                            } else {
+                                base[axis] * slope
                             }
-                        }
-                        let f = self.base_value[q * self.nb + t] * self.line_deriv[j * self.nl + l];
-                        if (f - g[b][axis]).abs() > FACTOR_CHECK * largest {
+                        };
+                        if (0..dim).any(|a| (factored(a) - g[b][a]).abs() > FACTOR_CHECK * largest)
+                        {
                             return false;
                         }
                     }
@@ -256,13 +238,10 @@ impl ExtrudedFactors {
             a_prime,
             v: rows,
         } = scratch;
-        rows.clear();
-        rows.resize(D * row, 0.0);
+        zeroed(rows, D * row);
         // A[t][d q_l + j] = Σ_l ψ_l(ζ_j) X_d(t, l), A′ with ψ′.
-        a.clear();
-        a.resize(nb * row, 0.0);
-        a_prime.clear();
-        a_prime.resize(nb * row, 0.0);
+        zeroed(a, nb * row);
+        zeroed(a_prime, nb * row);
         for t in 0..nb {
             let (at, at_prime) = (&mut a[t * row..][..row], &mut a_prime[t * row..][..row]);
             for l in 0..nl {
@@ -339,8 +318,7 @@ impl ExtrudedFactors {
         let row = (D * ql).div_ceil(LANES) * LANES;
         let ExtrudedScratch { a, a_prime, v } = scratch;
         // V[q][α][d q_l + j] = modes of (d, α, (q, j)), rows padded.
-        v.clear();
-        v.resize(qb * D * row, 0.0);
+        zeroed(v, qb * D * row);
         for d in 0..D {
             for alpha in 0..D {
                 for q in 0..qb {
@@ -350,10 +328,8 @@ impl ExtrudedFactors {
             }
         }
         // C[t][d q_l + j] = Σ_q Σ_α ∂_α φ_t(ξ̄_q) V[q][α], C′ = Σ_q φ_t(ξ̄_q) V[q][last].
-        a.clear();
-        a.resize(nb * row, 0.0);
-        a_prime.clear();
-        a_prime.resize(nb * row, 0.0);
+        zeroed(a, nb * row);
+        zeroed(a_prime, nb * row);
         for t in 0..nb {
             for k0 in (0..row).step_by(LANES) {
                 let (mut acc, mut acc_prime) = ([0.0f64; LANES], [0.0f64; LANES]);
@@ -395,6 +371,12 @@ impl ExtrudedFactors {
             }
         }
     }
+}
+
+/// `buffer` as `len` zeros, reusing its allocation.
+fn zeroed(buffer: &mut Vec<f64>, len: usize) {
+    buffer.clear();
+    buffer.resize(len, 0.0);
 }
 
 #[cfg(test)]
