@@ -184,14 +184,11 @@ pub struct Reshaping {
     pub min_after: f64,
 }
 
-/// The smallest certified lower bound of Ĩ (+∞ without the Bézier check).
+/// The smallest certified lower bound of Ĩ (a NaN bound counts as −∞).
 fn certified_minimum(quality: &MeshQuality) -> f64 {
-    quality.validity.as_ref().map_or(f64::INFINITY, |checks| {
-        checks
-            .iter()
-            .map(|c| c.scaled_jacobian_lower_bound)
-            .fold(f64::INFINITY, f64::min)
-    })
+    crate::correction_choice::certified_scaled_jacobians(quality)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Beyond validity: when every element is certified valid but some only with Ĩ below
