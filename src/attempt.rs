@@ -374,6 +374,7 @@ impl Attempt {
             edges_split: 0,
             quadrilaterals_split: 0,
             doubly_curved_cells: Vec::new(),
+            doubly_curved_cell_tags: Vec::new(),
             uncertified_after_solve: 0,
             stiffened_resolve: None,
             untangled_elements: 0,

@@ -65,6 +65,14 @@ pub enum JobError {
         /// The file.
         path: PathBuf,
     },
+    /// An output option that does not apply to the output's format.
+    #[error("{}: {message}", path.display())]
+    OutputOption {
+        /// The output file.
+        path: PathBuf,
+        /// What does not apply.
+        message: &'static str,
+    },
     /// The plots' folder is a file.
     #[error("{}: is a file, not a folder for the plots", path.display())]
     PlotsFolderIsFile {
@@ -174,6 +182,8 @@ pub struct Outputs {
     pub report: Option<PathBuf>,
     /// The folder of `scaled_jacobian.svg` and `stretching.svg` (created if missing).
     pub plots: Option<PathBuf>,
+    /// How the mesh file is encoded (MSH version and binary, VTU compression).
+    pub format: hocurve_io::OutputFormat,
 }
 
 impl Outputs {
@@ -188,6 +198,22 @@ impl Outputs {
         if !matches!(ext.as_deref(), Some("vtu" | "msh")) {
             return Err(JobError::UnknownOutputFormat {
                 path: self.mesh.clone(),
+            });
+        }
+        let default = hocurve_io::OutputFormat::default();
+        let misplaced = match ext.as_deref() {
+            Some("vtu") if self.format.msh != default.msh => {
+                Some("the MSH version and binary encoding apply to .msh output (.vtu arrays are always binary; compression is the VTU option)")
+            }
+            Some("msh") if self.format.vtu != default.vtu => {
+                Some("VTU compression applies to .vtu output (MSH has none; binary MSH is the compact form)")
+            }
+            _ => None,
+        };
+        if let Some(message) = misplaced {
+            return Err(JobError::OutputOption {
+                path: self.mesh.clone(),
+                message,
             });
         }
         hocurve_io::check_writable(&self.mesh)?;
@@ -284,7 +310,7 @@ pub fn curve_and_write(
     // Every output is staged and put in place at the end, together: a failure (or a
     // signal) before that leaves the targets as they were.
     let mut staged = hocurve_io::StagedOutputs::new();
-    crate::written::write_curved(&staged.stage(&outputs.mesh), &curved)?;
+    crate::written::write_curved(&staged.stage(&outputs.mesh), &curved, outputs.format)?;
     let timings = &mut curved.report.timings;
     timings.write = t.elapsed().as_secs_f64();
     timings.read = inputs.read_seconds;

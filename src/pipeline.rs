@@ -438,6 +438,10 @@ pub fn curve_mesh(
         curved.report.edges_split = split_edges;
     }
     curved.report.quadrilaterals_split = quadrilaterals_split;
+    curved.report.doubly_curved_cell_tags = doubly_curved_cells
+        .iter()
+        .map(|&c| linear.cell_tag(c))
+        .collect();
     curved.report.doubly_curved_cells = doubly_curved_cells;
     if split_edges > 0 || quadrilaterals_split > 0 || pruned_input {
         curved.split_input = Some(linear.clone());

@@ -117,8 +117,12 @@ pub struct CurveReport {
     pub quadrilaterals_split: usize,
     /// Hexahedra and prisms (indices into the curved mesh's cells) with two faces on one
     /// curved entity meeting along an edge: not split (it would not be conforming), they
-    /// get det J = 0 along that edge and cannot be certified.
+    /// get det J = 0 along that edge and cannot be certified. Not in the JSON, which
+    /// names them by tag ([`Self::doubly_curved_cell_tags`]).
+    #[serde(skip)]
     pub doubly_curved_cells: Vec<usize>,
+    /// The input's element tags of [`Self::doubly_curved_cells`].
+    pub doubly_curved_cell_tags: Vec<u64>,
     /// Tags of the input nodes no cell uses, left out of the curved mesh.
     pub unused_node_tags: Vec<u64>,
     /// Nodes sliding in a plane or along a line (`--slide`, and groups sliding by default).

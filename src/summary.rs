@@ -9,67 +9,39 @@ use hocurve_mesh::LinearMesh;
 use crate::job::Measured;
 use crate::pipeline::{CurveOptions, CurvedMesh};
 
-/// The summary table printed after a run: one row per fact of the report (sizes, boundary,
-/// distance to the geometry, solver, corrections, quality, certification, repair, seconds
-/// per step), keys aligned.
+/// The summary table printed after a run, at most 10 rows (with the two input lines, a
+/// run prints at most 12): output and sizes; boundary and distance to the geometry; sliding
+/// nodes; elasticity (with the boundary-layer treatment); method adjustments; quality;
+/// validity; repair; time and memory. Rows that would say "none" are left out; every
+/// number is also in the `--report`, which has the rest.
 pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
     let r = &curved.report;
     let t = &r.timings;
     let mut rows: Vec<(&str, String)> = vec![
-        ("output", out.display().to_string()),
         (
-            "mesh",
+            "output",
             format!(
-                "{} elements, order {}, {} nodes",
-                r.elements, r.order, r.nodes
+                "{}: {} elements, order {}, {} nodes",
+                out.display(),
+                r.elements,
+                r.order,
+                r.nodes
             ),
         ),
         (
             "boundary",
             format!(
-                "{} facets on the geometry ({} by name, {} by proximity), {} straight; {} curved facets, {} nodes on the geometry",
+                "{} facets on the geometry ({} by name, {} by proximity), {} straight; {} nodes on it, max distance {:.1e} (tolerance {:.1e})",
                 r.facets_by_name + r.facets_by_proximity,
                 r.facets_by_name,
                 r.facets_by_proximity,
                 r.facets_straight,
-                r.curved_facets,
-                r.boundary_nodes_on_geometry
-            ),
-        ),
-        (
-            "max distance to geometry",
-            format!(
-                "{:.3e} (vertices moved up to {:.3e}, tolerance {:.3e})",
-                r.max_geometry_distance, r.max_vertex_move, r.geometry_tolerance
+                r.boundary_nodes_on_geometry,
+                r.max_geometry_distance,
+                r.geometry_tolerance
             ),
         ),
     ];
-    if r.solver != "none" {
-        rows.push((
-            "elasticity",
-            format!(
-                "{} dofs, {} solver, {} iterations, residual {:.1e}{}",
-                r.dofs,
-                r.solver,
-                r.iterations,
-                r.residual,
-                r.displacement_error_bound
-                    .map(|b| format!(" (displacement error ≤ {b:.1e})"))
-                    .unwrap_or_default()
-            ),
-        ));
-    }
-    if r.small_angle_edges > 0 {
-        rows.push((
-            "small-angle edges",
-            format!(
-                "{} below the limit, {} corrected (Fig. 4); smallest edge angle {:.1}°",
-                r.small_angle_edges,
-                r.corrected_edges,
-                r.min_edge_angle_degrees.unwrap_or(f64::NAN)
-            ),
-        ));
-    }
     if r.sliding_nodes > 0 {
         let groups: Vec<String> = r
             .sliding_groups
@@ -87,98 +59,117 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             format!("{} on {}", r.sliding_nodes, groups.join(", ")),
         ));
     }
-    if r.layer_stiffening {
-        rows.push((
-            "stiffness",
-            "each cell's scaled by 1/|J| (boundary-layer mesh; --uniform-stiffness keeps it uniform)"
-                .to_string(),
-        ));
-    }
-    if r.layer_columns > 0 {
-        rows.push((
-            "layer columns",
-            format!(
-                "{} cells in {} wall-normal columns moved with the wall (--elastic-layers solves them)",
+    if r.solver != "none" {
+        let mut text = format!(
+            "{} unknowns, {} solver, {} iterations, residual {:.1e}{}",
+            r.dofs,
+            r.solver,
+            r.iterations,
+            r.residual,
+            r.displacement_error_bound
+                .map(|b| format!(" (displacement error ≤ {b:.1e})"))
+                .unwrap_or_default()
+        );
+        if r.layer_stiffening {
+            text += "; cells stiffened by 1/|J| (--uniform-stiffness keeps them uniform)";
+        }
+        if r.layer_columns > 0 {
+            let _ = write!(
+                text,
+                "; {} cells in {} wall-normal columns moved with the wall (--elastic-layers solves them)",
                 r.layer_column_cells, r.layer_columns
-            ),
-        ));
+            );
+        }
+        rows.push(("elasticity", text));
     }
-    if r.edges_split > 0 {
-        rows.push((
-            "edges split",
-            format!(
-                "{} interior edge(s) split before curving: their cells had two facets on one curved entity (a 180° corner once curved)",
-                r.edges_split
-            ),
+    let mut adjustments = Vec::new();
+    if r.small_angle_edges > 0 {
+        adjustments.push(format!(
+            "{} small-angle edge(s), {} corrected (Fig. 4; smallest angle {:.1}°)",
+            r.small_angle_edges,
+            r.corrected_edges,
+            r.min_edge_angle_degrees.unwrap_or(f64::NAN)
         ));
     }
     if r.corrections_undone > 0 {
-        rows.push((
-            "corrections undone",
-            format!(
-                "{} edge(s) back on geodesics: their Fig. 4 correction did not improve every element on them",
-                r.corrections_undone
-            ),
+        adjustments.push(format!(
+            "{} correction(s) undone (no better)",
+            r.corrections_undone
         ));
     }
+    if r.edges_split > 0 {
+        adjustments.push(format!(
+            "{} interior edge(s) split (cells with two facets on one curved entity)",
+            r.edges_split
+        ));
+    }
+    if !adjustments.is_empty() {
+        rows.push(("adjustments", adjustments.join("; ")));
+    }
+    let sampled = r
+        .min_scaled_jacobian
+        .map_or("-".to_string(), |m| format!("{m:.4}"));
     rows.push((
         "min scaled Jacobian",
         match r.min_scaled_jacobian_lower_bound {
             Some(bound) => format!(
-                "Ĩ ≥ {bound:.4} everywhere (certified by Bézier bounds); {} at the degree-2p quadrature points (paper Eq. 8)",
-                r.min_scaled_jacobian.map_or("-".to_string(), |m| format!("{m:.4}"))
+                "Ĩ ≥ {bound:.4} everywhere (Bézier bounds); {sampled} at the degree-2p quadrature points"
             ),
-            None => format!(
-                "{} at the degree-2p quadrature points only (paper Eq. 8; not certified)",
-                r.min_scaled_jacobian.map_or("-".to_string(), |m| format!("{m:.4}"))
+            None => format!("{sampled} at the degree-2p quadrature points only (not certified)"),
+        },
+    ));
+    rows.push((
+        "validity",
+        match (r.certified_valid_elements, r.undecided_elements) {
+            (Some(valid), Some(undecided)) => format!(
+                "{} invalid; {valid} of {} elements certified det J > 0 everywhere, {undecided} undecided",
+                r.invalid_elements, r.elements,
+            ),
+            _ => format!(
+                "{} invalid at the sample points; not certified (--no-certify)",
+                r.invalid_elements
             ),
         },
     ));
-    rows.push(("invalid elements", r.invalid_elements.to_string()));
+    let mut repair = Vec::new();
     if r.uncertified_after_solve > 0 {
         let steps = r.repair_steps();
-        rows.push((
-            "repair",
-            format!(
-                "{} element(s) not certified after the elastic solve; {}",
-                r.uncertified_after_solve,
-                if steps.is_empty() {
-                    "not repaired (--no-repair)"
-                } else {
-                    &steps
-                }
-            ),
+        repair.push(format!(
+            "{} element(s) not certified after the solve; {}",
+            r.uncertified_after_solve,
+            if steps.is_empty() {
+                "not repaired (--no-repair)"
+            } else {
+                &steps
+            }
         ));
     }
     if let Some(from) = r.reshaped_from {
-        rows.push((
-            "reshaped",
-            format!(
-                "{} element(s) certified below Ĩ {:.2} reshaped (free nodes, sliding ones in their planes): min Ĩ {from:.4} before (--reshape-below 0 keeps them)",
-                r.reshaped_elements, r.reshape_below
-            ),
+        repair.push(format!(
+            "{} element(s) below Ĩ {:.2} reshaped from min Ĩ {from:.4} (--reshape-below 0 keeps them)",
+            r.reshaped_elements, r.reshape_below
         ));
     }
+    if !repair.is_empty() {
+        rows.push(("repair", repair.join("; ")));
+    }
     rows.push((
-        "certified valid",
-        match (r.certified_valid_elements, r.undecided_elements) {
-            (Some(valid), Some(undecided)) => format!(
-                "{valid} of {} elements have det J > 0 everywhere (Bézier bounds), {undecided} undecided",
-                r.elements,
-            ),
-            _ => "not certified (--no-certify)".to_string(),
-        },
-    ));
-    rows.push((
-        "time (s)",
+        "time",
         format!(
-            "read {:.2}, nodes {:.2}, association {:.2}, boundary {:.2}, assembly {:.2}, solve {:.2}, quality {:.2}, repair {:.2}, write {:.2}; total {:.2}",
-            t.read, t.high_order_nodes, t.association, t.boundary_nodes, t.assembly, t.solve, t.quality, t.repair, t.write, t.total
+            "{:.2} s{} (read {:.2}, nodes {:.2}, boundary {:.2}, elasticity {:.2}, quality {:.2}, repair {:.2}, write {:.2})",
+            t.total,
+            r.peak_memory_mb
+                .map(|mb| format!(", peak memory {mb:.0} MB"))
+                .unwrap_or_default(),
+            t.read,
+            t.high_order_nodes,
+            t.association + t.boundary_nodes,
+            t.assembly + t.solve,
+            t.quality,
+            t.repair,
+            t.write,
         ),
     ));
-    if let Some(mb) = r.peak_memory_mb {
-        rows.push(("peak memory", format!("{:.0} MB", mb)));
-    }
     let width = rows.iter().map(|(k, _)| k.len()).max().unwrap_or(0);
     rows.iter()
         .map(|(key, value)| format!("  {key:<width$}  {value}\n"))

@@ -15,7 +15,11 @@ use crate::pipeline::CurvedMesh;
 /// the sampled scaled Jacobian, the stretching and (when certified) the certified lower
 /// bound of the scaled Jacobian: the cells to look at in ParaView are those where the bound
 /// is far below the sample.
-pub fn write_curved(path: &Path, curved: &CurvedMesh) -> Result<(), JobError> {
+pub fn write_curved(
+    path: &Path,
+    curved: &CurvedMesh,
+    format: hocurve_io::OutputFormat,
+) -> Result<(), JobError> {
     let displacement: Vec<f64> = curved.displacement.iter().flatten().copied().collect();
     let point_data = [DataArray {
         name: "displacement",
@@ -48,7 +52,7 @@ pub fn write_curved(path: &Path, curved: &CurvedMesh) -> Result<(), JobError> {
             values: bounds,
         });
     }
-    hocurve_io::write_mesh_with(path, &curved.mesh, &point_data, &cell_arrays)?;
+    hocurve_io::write_mesh_as(path, &curved.mesh, &point_data, &cell_arrays, format)?;
     Ok(())
 }
 

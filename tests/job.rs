@@ -27,6 +27,7 @@ fn a_job_writes_the_mesh_the_report_and_the_plots_together() {
         mesh: dir.path().join("sphere.msh"),
         report: Some(dir.path().join("report.json")),
         plots: Some(dir.path().join("plots")),
+        format: Default::default(),
     };
     outputs.check().unwrap();
     let inputs = Inputs::read(
@@ -60,6 +61,7 @@ fn a_mesh_that_is_not_certified_is_rejected_and_nothing_is_written() {
         mesh: dir.path().join("thin.vtu"),
         report: Some(dir.path().join("report.json")),
         plots: None,
+        format: Default::default(),
     };
     let inputs = Inputs::read(
         &fixture("sphere_layers_thin.msh"),
@@ -94,6 +96,7 @@ fn outputs_and_geometry_formats_are_checked_by_extension() {
         mesh: dir.path().join("out.stl"),
         report: None,
         plots: None,
+        format: Default::default(),
     };
     assert!(matches!(
         outputs.check(),

@@ -21,7 +21,9 @@
 //!    meshes `hocurve` writes and measure them with their own shape functions: straight
 //!    samples and fixtures, the committed snapshots (VTK: det J > 0, volume of the
 //!    sphere-in-box at p = 4 equal to 216 − 4π/3 to 1e-6), curved `.msh` files of every
-//!    element type at p = 1..5 (Gmsh: det J > 0 and equal to ours).
+//!    element type at p = 1..5 (Gmsh: det J > 0 and equal to ours); the solvers' readers
+//!    (MFEM and PyFR, Python packages in the same environment) on curved meshes written as
+//!    MSH 4.1 and 2.2, ASCII and binary: volumes equal to VTK's on the compressed `.vtu`.
 //!
 //! `cargo xtask verify --review` first re-records the snapshots for review (`cargo insta
 //! review` if installed). `cargo xtask bench` times our curving of the sphere against Gmsh's
@@ -42,8 +44,39 @@ mod paper;
 mod scale;
 mod snapshots;
 
+/// The tasks and their options, printed by `cargo xtask --help` (and on a wrong task).
+const USAGE: &str = "\
+usage: cargo xtask <task> [options]
+
+tasks:
+  verify [--offline] [--skip-lint] [--review] [--full]
+                      the regression gate CI runs (.ci/run): fmt, clippy, tests, snapshots,
+                      CAD families, paper reproduction, interoperability; --full adds the
+                      large cases, --review re-records the snapshots, --offline skips what
+                      needs PyPI (loudly)
+  cad [--full]        the CAD families curved at p = 2..5, checked by Gmsh and OpenCASCADE
+  interop [--offline] the real VTK, Gmsh, MFEM and PyFR read what hocurve writes
+  curved-interop [--offline]
+                      Gmsh's Jacobians on our curved .msh files equal ours
+  snapshots           the golden snapshot suite (NACA0012, sphere)
+  paper               the paper's Sect. 5.1 table and Fig. 12b study beside ours
+  interpolation       the Fig. 12b interpolation tables
+  bench [--orders 2,3,4,5] [--gmsh-timeout 120]
+                      our curving of the sphere against Gmsh's projection and elastic curving
+  bench --scale       sphere meshes of ~100 k, 300 k and 1 M tetrahedra at p = 3 against Gmsh
+  bench --layers      the boundary-layer meshes
+  help, --help, -h    this text
+";
+
 fn main() -> Result<()> {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if args
+        .iter()
+        .any(|a| matches!(a.as_str(), "--help" | "-h" | "help"))
+    {
+        print!("{USAGE}");
+        return Ok(());
+    }
     match args.first().map(String::as_str) {
         Some("verify") => verify(&args[1..]),
         Some("interop") => interop(&args[1..]),
@@ -62,10 +95,8 @@ fn main() -> Result<()> {
         Some("bench") if args[1..].iter().any(|a| a == "--layers") => layers::layers(),
         Some("bench") => bench::bench(&args[1..]),
         _ => {
-            eprintln!(
-                "usage: cargo xtask verify [--offline] [--skip-lint] [--review] [--full]\n       cargo xtask cad [--full]\n       cargo xtask interop [--offline]\n       cargo xtask curved-interop [--offline]\n       cargo xtask snapshots\n       cargo xtask paper\n       cargo xtask interpolation\n       cargo xtask bench [--orders 2,3,4,5] [--gmsh-timeout 120]\n       cargo xtask bench --scale\n       cargo xtask bench --layers"
-            );
-            bail!("unknown or missing task")
+            eprint!("{USAGE}");
+            bail!("unknown or missing task (cargo xtask --help lists them)")
         }
     }
 }
@@ -263,7 +294,7 @@ fn python_env(offline: bool) -> Result<Option<PathBuf>> {
     let python = venv.join("bin").join("python");
     let ready = |py: &Path| {
         Command::new(py)
-            .args(["-c", "import vtk, gmsh, numpy"])
+            .args(["-c", "import vtk, gmsh, numpy, h5py, mfem.ser, pyfr"])
             .output()
             .map(|o| o.status.success())
             .unwrap_or(false)
@@ -281,12 +312,17 @@ fn python_env(offline: bool) -> Result<Option<PathBuf>> {
             Command::new("python3").args(["-m", "venv"]).arg(&venv),
         )?;
     }
+    // The readers our users pair us with: VTK and Gmsh, and the solvers MFEM and PyFR
+    // (whose `pyfr import` needs an MPI library: mpich's wheel).
     run(
-        "install vtk, gmsh, numpy",
-        Command::new(&python).args(["-m", "pip", "install", "--quiet", "vtk", "gmsh", "numpy"]),
+        "install vtk, gmsh, numpy, mfem, pyfr, mpich",
+        Command::new(&python).args([
+            "-m", "pip", "install", "--quiet", "vtk", "gmsh", "numpy", "h5py", "mfem", "pyfr",
+            "mpich",
+        ]),
     )?;
     if !ready(&python) {
-        bail!("the Python packages vtk and gmsh were installed but do not import; see the messages above");
+        bail!("the Python packages vtk, gmsh, mfem and pyfr were installed but do not import; see the messages above");
     }
     Ok(Some(python))
 }
@@ -408,7 +444,84 @@ fn interop(args: &[String]) -> Result<()> {
             )?;
         }
     }
-    curved_interop::curved_interop(&python)
+    curved_interop::curved_interop(&python)?;
+    solver_readers(&python, &hocurve, &out)
+}
+
+/// The solvers' own readers on every MSH variant we write (`scripts/check_clients.py`):
+/// curved meshes written as MSH 4.1 and 2.2, ASCII and binary, are read by Gmsh (node
+/// coordinates equal to the `.vtu`'s), MFEM and PyFR (ASCII; its reader has no binary),
+/// and each volume must equal VTK's on the zlib-compressed `.vtu` to 1e-9.
+fn solver_readers(python: &Path, hocurve: &Path, out: &Path) -> Result<()> {
+    let dir = out.join("clients");
+    if dir.exists() {
+        std::fs::remove_dir_all(&dir)?;
+    }
+    std::fs::create_dir_all(&dir)?;
+    let cases = [
+        (
+            "sphere_tet",
+            "fixtures/sphere/sphere.msh",
+            "fixtures/sphere/sphere.json",
+            3,
+        ),
+        (
+            "hybrid_hex_prism",
+            "fixtures/hybrid/hybrid.msh",
+            "fixtures/hybrid/hybrid.json",
+            2,
+        ),
+        (
+            "naca0012_tri",
+            "fixtures/naca0012/naca0012.msh",
+            "fixtures/naca0012/naca0012.json",
+            3,
+        ),
+    ];
+    for (name, mesh, geometry, p) in cases {
+        let mut files = Vec::new();
+        let variants: [(&str, &[&str]); 5] = [
+            ("z.vtu", &["--compress"]),
+            ("v41.msh", &[]),
+            ("v22.msh", &["--msh-version", "2.2"]),
+            ("v41_bin.msh", &["--binary"]),
+            ("v22_bin.msh", &["--msh-version", "2.2", "--binary"]),
+        ];
+        for (suffix, options) in variants {
+            let file = dir.join(format!("{name}_p{p}_{suffix}"));
+            let status = Command::new(hocurve)
+                .current_dir(root())
+                .args([
+                    "curve",
+                    mesh,
+                    "--geometry",
+                    geometry,
+                    "--order",
+                    &p.to_string(),
+                ])
+                .args(options)
+                .arg("-o")
+                .arg(&file)
+                .stdout(std::process::Stdio::null())
+                .status()?;
+            if !status.success() {
+                bail!("hocurve curve {mesh} --order {p} {options:?} failed");
+            }
+            files.push(file);
+        }
+        run(
+            &format!("Gmsh, MFEM and PyFR read {name} at p = {p} in every MSH variant"),
+            Command::new(python)
+                .arg(
+                    root()
+                        .join("xtask")
+                        .join("scripts")
+                        .join("check_clients.py"),
+                )
+                .args(&files),
+        )?;
+    }
+    Ok(())
 }
 
 /// Total volume (3D) or area (2D) of the straight-sided mesh in `path`: Σ_cells Σ_q w_q |det J|

@@ -5,16 +5,18 @@
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use anyhow::{bail, Result};
 use clap::{Args, Parser, Subcommand};
 use hocurve::demo::Demo;
+use hocurve::elastic::SolveProgress;
 use hocurve::elastic::{Material, SolverKind};
 use hocurve::geodesic::BoundaryNodeStrategy;
+use hocurve::io::{MshFormat, MshVersion, OutputFormat, VtuEncoding};
 use hocurve::job::{curve_and_write, Inputs, JobError, JobOptions, Outputs};
 use hocurve::nodes::NodeFamily;
-use hocurve::pipeline::{CurveOptions, Progress, SolveRegion};
+use hocurve::pipeline::{CurveOptions, Progress, SolveRegion, Step};
 use hocurve::quality::Sampling;
 use hocurve::summary::{input_line, measured_text, mesh_info, summary_table};
 
@@ -55,6 +57,8 @@ enum Command {
         method: MethodArgs,
         #[command(flatten)]
         output: OutputArgs,
+        #[command(flatten)]
+        verbosity: Verbosity,
     },
     /// Curve a bundled example (sphere: p = 4, naca0012: p = 5) and print the summary.
     ///
@@ -70,6 +74,8 @@ enum Command {
         method: MethodArgs,
         #[command(flatten)]
         output: OutputArgs,
+        #[command(flatten)]
+        verbosity: Verbosity,
     },
     /// Measure a high-order mesh (.msh from hocurve or Gmsh, .vtu from hocurve or VTK):
     /// scaled Jacobian, validity, stretching.
@@ -177,13 +183,36 @@ struct MethodArgs {
     ignore_memory_estimate: bool,
 }
 
+/// How much a run prints (shared by `curve` and `demo`).
+#[derive(Args, Clone, Copy)]
+struct Verbosity {
+    /// Print nothing but errors: no progress, no summary (the exit code and `--report`
+    /// tell the outcome).
+    #[arg(short, long, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Also print each step's start and duration, every solver iteration, and after the
+    /// summary the quality measures with their histograms.
+    #[arg(short, long)]
+    verbose: bool,
+}
+
 /// Where results go (shared by `curve` and `demo`).
 #[derive(Args)]
 struct OutputArgs {
-    /// Output file: `.vtu` (VTK Lagrange cells) or `.msh` (Gmsh MSH 4.1, high order), with
+    /// Output file: `.vtu` (VTK Lagrange cells) or `.msh` (Gmsh MSH, high order), with
     /// the displacement as point data, the scaled Jacobian and stretching as cell data.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// MSH version of a `.msh` output: 4.1 (Gmsh's default) or 2.2 (what MFEM, NekMesh and
+    /// older readers ask for, Gmsh's `-format msh22`).
+    #[arg(long, value_name = "2.2|4.1", value_parser = parse_msh_version)]
+    msh_version: Option<MshVersion>,
+    /// Write a `.msh` output in binary (Gmsh's `-bin`): smaller and faster to read and write.
+    #[arg(long)]
+    binary: bool,
+    /// Compress a `.vtu` output's arrays with zlib (read by ParaView and VTK).
+    #[arg(long)]
+    compress: bool,
     /// Write a JSON report (sizes, solver, residual, quality, seconds per step).
     #[arg(long)]
     report: Option<PathBuf>,
@@ -240,6 +269,7 @@ fn run(cli: Cli) -> Result<()> {
             geometry_tolerance,
             method,
             output,
+            verbosity,
         } => {
             if !straight && geometry.is_none() {
                 bail!("give a geometry to curve onto with --geometry FILE (.json or .igs), or pass --straight for the straight-sided order-{order} mesh");
@@ -250,23 +280,26 @@ fn run(cli: Cli) -> Result<()> {
             let outputs = output.outputs(out);
             outputs.check()?;
             let inputs = Inputs::read(&mesh, geometry.as_deref())?;
-            if let (Some(path), Some((model, _))) = (&geometry, &inputs.geometry) {
-                let (curves, surfaces) = model.counts();
-                println!("{}: {curves} curves, {surfaces} surfaces", path.display());
-            }
             let mut options = method.options(order as usize, output.allow_invalid)?;
             options.curve.geometry_tolerance = geometry_tolerance;
-            println!(
-                "{}",
-                input_line(&mesh.display().to_string(), &inputs.linear, &options.curve)
-            );
-            curve(&inputs, &options, &outputs)
+            if !verbosity.quiet {
+                if let (Some(path), Some((model, _))) = (&geometry, &inputs.geometry) {
+                    let (curves, surfaces) = model.counts();
+                    println!("{}: {curves} curves, {surfaces} surfaces", path.display());
+                }
+                println!(
+                    "{}",
+                    input_line(&mesh.display().to_string(), &inputs.linear, &options.curve)
+                );
+            }
+            curve(&inputs, &options, &outputs, verbosity)
         }
         Command::Demo {
             name,
             order,
             method,
             output,
+            verbosity,
         } => {
             let order = order.map_or(name.order(), |p| p as usize);
             let out = output
@@ -277,15 +310,17 @@ fn run(cli: Cli) -> Result<()> {
             outputs.check()?;
             let inputs = Inputs::demo(name)?;
             let options = method.options(order, output.allow_invalid)?;
-            println!(
-                "{}",
-                input_line(
-                    &format!("demo {}", name.name()),
-                    &inputs.linear,
-                    &options.curve
-                )
-            );
-            curve(&inputs, &options, &outputs)
+            if !verbosity.quiet {
+                println!(
+                    "{}",
+                    input_line(
+                        &format!("demo {}", name.name()),
+                        &inputs.linear,
+                        &options.curve
+                    )
+                );
+            }
+            curve(&inputs, &options, &outputs, verbosity)
         }
         Command::Quality {
             mesh,
@@ -320,26 +355,38 @@ fn run(cli: Cli) -> Result<()> {
     }
 }
 
-/// Runs the job with a progress display, prints the quality summary and the table, and
-/// fails (exit 1) on any defect of the mesh, written or not.
-fn curve(inputs: &Inputs, options: &JobOptions, outputs: &Outputs) -> Result<()> {
-    let display = ProgressDisplay::new();
+/// Runs the job with a progress display, prints the summary table (and with `-v` the
+/// quality measures and histograms), and fails (exit 1) on any defect of the mesh,
+/// written or not.
+fn curve(
+    inputs: &Inputs,
+    options: &JobOptions,
+    outputs: &Outputs,
+    verbosity: Verbosity,
+) -> Result<()> {
+    let mut display = ProgressDisplay::new(verbosity);
     let result = curve_and_write(inputs, options, outputs, &mut |p| display.report(p));
     display.finish();
     let finished = match result {
         Ok(finished) => finished,
         Err(JobError::Rejected { reason, curved }) => {
-            print!("{}", curved.quality.summary);
+            if !verbosity.quiet {
+                print!("{}", summary_table(&curved, &outputs.mesh));
+            }
             bail!("{reason}; nothing written (--allow-invalid writes the mesh anyway)");
         }
         Err(e) => return Err(e.into()),
     };
     let curved = &finished.curved;
-    for warning in hocurve::verdict::warnings(&curved.report) {
-        eprintln!("hocurve: warning: {warning}");
+    if !verbosity.quiet {
+        for warning in hocurve::verdict::warnings(&curved.report) {
+            eprintln!("hocurve: warning: {warning}");
+        }
+        if verbosity.verbose {
+            print!("{}", curved.quality.summary);
+        }
+        print!("{}", summary_table(curved, &outputs.mesh));
     }
-    print!("{}", curved.quality.summary);
-    print!("{}", summary_table(curved, &outputs.mesh));
     if !finished.defects.is_empty() {
         bail!(
             "{}; written anyway (--allow-invalid)",
@@ -387,54 +434,169 @@ impl MethodArgs {
 
 impl OutputArgs {
     fn outputs(&self, mesh: PathBuf) -> Outputs {
+        let format = OutputFormat {
+            msh: MshFormat {
+                version: self.msh_version.unwrap_or_default(),
+                binary: self.binary,
+            },
+            vtu: if self.compress {
+                VtuEncoding::Zlib
+            } else {
+                VtuEncoding::Base64
+            },
+        };
         Outputs {
             mesh,
             report: self.report.clone(),
             plots: self.plots.clone(),
+            format,
         }
     }
 }
 
-/// Progress on stderr, shown only when stderr is a terminal: a spinner naming the running
-/// step, turning into a bar during the stiffness assembly (fraction of cells done) and the
-/// CG solve (orders of magnitude of residual reduction gained towards the tolerance).
-struct ProgressDisplay(Option<indicatif::ProgressBar>);
+/// `--msh-version`: 2.2 or 4.1 (also written 22, 41).
+fn parse_msh_version(text: &str) -> Result<MshVersion, String> {
+    match text {
+        "2.2" | "22" => Ok(MshVersion::V2_2),
+        "4.1" | "41" => Ok(MshVersion::V4_1),
+        other => Err(format!("{other}: the MSH versions written are 2.2 and 4.1")),
+    }
+}
+
+/// Progress on stderr. On a terminal: a spinner naming the running step with the elapsed
+/// time, turning into a bar with an estimate of the time left during the stiffness
+/// assembly (fraction of cells done) and the CG solve (orders of magnitude of residual
+/// reduction gained towards the tolerance). Piped (a batch job, a CI log) or with `-v`: one
+/// line per step with the elapsed time, and inside a step a line when its phase changes
+/// or every [`LOG_INTERVAL`] (with `-v`, every solver iteration). Nothing with `--quiet`.
+enum ProgressDisplay {
+    Silent,
+    Bar(indicatif::ProgressBar),
+    Log(LogProgress),
+}
 
 /// Resolution of the bar.
 const BAR_LENGTH: u64 = 1000;
 
+/// Longest silence of a piped run inside a long step.
+const LOG_INTERVAL: Duration = Duration::from_secs(10);
+
+/// The state of line-per-step progress.
+struct LogProgress {
+    start: Instant,
+    verbose: bool,
+    /// When the last line was printed.
+    last_line: Instant,
+    /// The running step and when it started.
+    step: Option<(Step, Instant)>,
+    /// The kind of the last elasticity event (assembly, set-up, iteration).
+    phase: Option<std::mem::Discriminant<SolveProgress>>,
+}
+
+impl LogProgress {
+    fn line(&mut self, text: &str) {
+        let now = Instant::now();
+        eprintln!(
+            "hocurve: [{:>8.2} s] {text}",
+            now.duration_since(self.start).as_secs_f64()
+        );
+        self.last_line = now;
+    }
+
+    /// With `-v`, how long the step that just ended took.
+    fn end_step(&mut self) {
+        if let (true, Some((step, started))) = (self.verbose, self.step.take()) {
+            let seconds = started.elapsed().as_secs_f64();
+            self.line(&format!("{} done in {seconds:.2} s", step.describe()));
+        }
+    }
+
+    fn report(&mut self, progress: Progress) {
+        match progress {
+            Progress::Step(step) => {
+                self.end_step();
+                self.step = Some((step, Instant::now()));
+                self.phase = None;
+                self.line(step.describe());
+            }
+            Progress::Elasticity(event) => {
+                let phase = std::mem::discriminant(&event);
+                let iteration = matches!(event, SolveProgress::Iteration { .. });
+                if self.phase != Some(phase)
+                    || (self.verbose && iteration)
+                    || self.last_line.elapsed() >= LOG_INTERVAL
+                {
+                    self.phase = Some(phase);
+                    let (message, fraction) = progress.status();
+                    let text = match (iteration, fraction) {
+                        (false, Some(f)) => format!("{message} ({:.0} %)", 100.0 * f),
+                        _ => message,
+                    };
+                    self.line(&text);
+                }
+            }
+        }
+    }
+}
+
 impl ProgressDisplay {
-    fn new() -> Self {
-        if !std::io::stderr().is_terminal() {
-            return ProgressDisplay(None);
+    fn new(verbosity: Verbosity) -> Self {
+        if verbosity.quiet {
+            return ProgressDisplay::Silent;
+        }
+        if verbosity.verbose || !std::io::stderr().is_terminal() {
+            let now = Instant::now();
+            return ProgressDisplay::Log(LogProgress {
+                start: now,
+                verbose: verbosity.verbose,
+                last_line: now,
+                step: None,
+                phase: None,
+            });
         }
         let bar = indicatif::ProgressBar::new_spinner();
         bar.enable_steady_tick(Duration::from_millis(120));
-        ProgressDisplay(Some(bar))
+        ProgressDisplay::Bar(bar)
     }
 
     /// A bar filled to the fraction done (clamped to [0, 1]) where the step has one, else a
-    /// spinner, with the step's message.
-    fn report(&self, progress: Progress) {
-        let Some(bar) = &self.0 else { return };
+    /// spinner, with the step's message; or a log line.
+    fn report(&mut self, progress: Progress) {
+        let bar = match self {
+            ProgressDisplay::Silent => return,
+            ProgressDisplay::Log(log) => return log.report(progress),
+            ProgressDisplay::Bar(bar) => bar,
+        };
         let (message, fraction) = progress.status();
         let template = match fraction {
-            Some(_) => "{spinner} {msg} [{bar:30}] {percent:>3}%",
-            None => "{spinner} {msg}",
+            Some(_) => {
+                "{spinner} [{elapsed_precise}] {msg} [{bar:30}] {percent:>3}% (about {eta} left)"
+            }
+            None => "{spinner} [{elapsed_precise}] {msg}",
         };
         if let Ok(style) = indicatif::ProgressStyle::with_template(template) {
             bar.set_style(style);
         }
         if let Some(fraction) = fraction {
-            bar.set_length(BAR_LENGTH);
-            bar.set_position((fraction.clamp(0.0, 1.0) * BAR_LENGTH as f64) as u64);
+            let position = (fraction.clamp(0.0, 1.0) * BAR_LENGTH as f64) as u64;
+            // A new phase starts the bar again: its estimate starts again too.
+            if bar.length() != Some(BAR_LENGTH) || position < bar.position() {
+                bar.set_length(BAR_LENGTH);
+                bar.reset();
+            }
+            bar.set_position(position);
         }
         bar.set_message(message);
     }
 
-    fn finish(&self) {
-        if let Some(bar) = &self.0 {
-            bar.finish_and_clear();
+    fn finish(&mut self) {
+        match self {
+            ProgressDisplay::Bar(bar) => bar.finish_and_clear(),
+            ProgressDisplay::Log(log) => {
+                log.end_step();
+                log.line("finished");
+            }
+            ProgressDisplay::Silent => {}
         }
     }
 }

@@ -16,8 +16,91 @@ fn stdout(o: &Output) -> String {
     String::from_utf8_lossy(&o.stdout).into_owned()
 }
 
+/// What a run printed on stderr besides its progress lines (`hocurve: [   1.23 s] …`,
+/// printed when stderr is not a terminal).
 fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    String::from_utf8_lossy(&o.stderr)
+        .lines()
+        .filter(|l| !is_progress(l))
+        .map(|l| format!("{l}\n"))
+        .collect()
+}
+
+fn is_progress(line: &str) -> bool {
+    line.starts_with("hocurve: [") && line.contains(" s] ")
+}
+
+/// A piped run logs one line per step with the elapsed time; `--quiet` prints nothing on
+/// success; `-v` adds each step's duration, every CG iteration and the histograms.
+#[test]
+fn progress_is_logged_when_piped_and_quiet_is_silent() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["demo", "sphere", "-p", "2", "-o", "s.vtu"];
+    let out = hocurve(&args, dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let all = String::from_utf8_lossy(&out.stderr).into_owned();
+    let progress: Vec<&str> = all.lines().filter(|l| is_progress(l)).collect();
+    for step in [
+        "placing high-order nodes",
+        "placing boundary nodes on the geometry",
+        "solving linear elasticity",
+        "measuring quality",
+        "writing the mesh",
+        "finished",
+    ] {
+        assert_eq!(
+            progress.iter().filter(|l| l.ends_with(step)).count(),
+            1,
+            "{step}: {all}"
+        );
+    }
+    // Elapsed times never decrease.
+    let times: Vec<f64> = progress
+        .iter()
+        .map(|l| {
+            l["hocurve: [".len()..]
+                .split(" s]")
+                .next()
+                .unwrap()
+                .trim()
+                .parse()
+                .unwrap()
+        })
+        .collect();
+    assert!(times.windows(2).all(|w| w[0] <= w[1]), "{all}");
+    // The summary: at most 12 lines.
+    let summary = stdout(&out);
+    assert!(summary.lines().count() <= 12, "{summary}");
+    assert!(
+        summary.contains("validity") && summary.contains("time"),
+        "{summary}"
+    );
+
+    let quiet = hocurve(&[&args[..], &["--quiet"]].concat(), dir.path());
+    assert!(quiet.status.success());
+    assert!(
+        quiet.stdout.is_empty() && quiet.stderr.is_empty(),
+        "{:?}",
+        quiet
+    );
+
+    let verbose = hocurve(&[&args[..], &["-v"]].concat(), dir.path());
+    assert!(verbose.status.success());
+    let all = String::from_utf8_lossy(&verbose.stderr).into_owned();
+    assert!(
+        all.contains("CG iteration 1,") && all.contains("CG iteration 2,"),
+        "{all}"
+    );
+    assert!(all.contains("solving linear elasticity done in"), "{all}");
+    assert!(stdout(&verbose).contains("scaled Jacobian histogram"));
+
+    // --quiet still reports errors, on one line.
+    let failed = hocurve(
+        &["demo", "sphere", "-p", "2", "-o", "s.stl", "-q"],
+        dir.path(),
+    );
+    assert!(!failed.status.success());
+    assert_eq!(String::from_utf8_lossy(&failed.stderr).lines().count(), 1);
 }
 
 #[test]
@@ -498,4 +581,49 @@ fn quality_checks_its_histogram_folders_first() {
         "{err}"
     );
     assert!(!err.contains("nothere.msh"), "{err}");
+}
+
+/// `--msh-version` and `--binary` choose the MSH flavour, `--compress` zlib-compresses a
+/// `.vtu`; an option that does not apply to the output's format is refused before work.
+#[test]
+fn output_formats_are_chosen_by_options_and_misplaced_ones_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = ["demo", "naca0012", "-p", "2", "-q", "-o"];
+    for (file, options, header) in [
+        ("a.msh", &[][..], &b"$MeshFormat\n4.1 0 8\n"[..]),
+        (
+            "b.msh",
+            &["--binary"][..],
+            &b"$MeshFormat\n4.1 1 8\n\x01\0\0\0\n"[..],
+        ),
+        (
+            "c.msh",
+            &["--msh-version", "2.2"][..],
+            &b"$MeshFormat\n2.2 0 8\n"[..],
+        ),
+        (
+            "d.msh",
+            &["--msh-version", "2.2", "--binary"][..],
+            &b"$MeshFormat\n2.2 1 8\n\x01\0\0\0\n"[..],
+        ),
+    ] {
+        let out = hocurve(&[&base[..], &[file], options].concat(), dir.path());
+        assert!(out.status.success(), "{file}: {}", stderr(&out));
+        let bytes = std::fs::read(dir.path().join(file)).unwrap();
+        assert!(bytes.starts_with(header), "{file}");
+        // Our reader takes every variant back.
+        let q = hocurve(&["quality", file, "--json"], dir.path());
+        assert!(q.status.success(), "{file}: {}", stderr(&q));
+    }
+    let out = hocurve(&[&base[..], &["z.vtu", "--compress"]].concat(), dir.path());
+    assert!(out.status.success(), "{}", stderr(&out));
+    let text = std::fs::read_to_string(dir.path().join("z.vtu")).unwrap();
+    assert!(text.contains("compressor=\"vtkZLibDataCompressor\""));
+    for (file, option) in [("x.vtu", "--binary"), ("x.msh", "--compress")] {
+        let out = hocurve(&[&base[..], &[file, option]].concat(), dir.path());
+        assert!(!out.status.success());
+        let err = stderr(&out);
+        assert!(err.contains(" appl") && err.contains(" output ("), "{err}");
+        assert!(!dir.path().join(file).exists());
+    }
 }

@@ -1,7 +1,8 @@
 //! File formats for hocurve: Gmsh MSH in (4.1 and 2.2, ASCII and binary; linear meshes to
 //! curve, and complete high-order meshes to assess) and VTK XML `.vtu` in (linear,
-//! quadratic and Lagrange cells, as hocurve or VTK write them); high-order Gmsh MSH 4.1
-//! and `.vtu` Lagrange cells out, with point and cell data.
+//! quadratic and Lagrange cells, as hocurve or VTK write them); high-order Gmsh MSH (4.1 or
+//! 2.2, ASCII or binary) and `.vtu` Lagrange cells (ASCII, base64 or zlib-compressed) out,
+//! with point and cell data.
 //!
 //! # Example
 //!
@@ -60,7 +61,7 @@ pub use atomic::{
     check_writable, exit_removing_temporary_files, remove_temporary_files, write_atomically,
     StagedOutputs,
 };
-pub use msh_write::{write_msh, write_msh_with};
+pub use msh_write::{write_msh, write_msh_as, write_msh_with, MshFormat, MshVersion};
 pub use vtu_read::{parse_vtu, read_vtu};
 pub use vtu_write::{write_vtu, write_vtu_with, DataArray, VtuEncoding};
 
@@ -95,6 +96,26 @@ pub fn write_mesh_with(
     mesh: &HighOrderMesh,
     point_data: &[DataArray],
     cell_data: &[DataArray],
+) -> Result<(), IoError> {
+    write_mesh_as(path, mesh, point_data, cell_data, OutputFormat::default())
+}
+
+/// How [`write_mesh_as`] encodes each format.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct OutputFormat {
+    /// For `.msh`: version and ASCII or binary.
+    pub msh: MshFormat,
+    /// For `.vtu`: ASCII, base64 or zlib-compressed base64.
+    pub vtu: VtuEncoding,
+}
+
+/// [`write_mesh_with`] with the encoding of each format chosen by `format`.
+pub fn write_mesh_as(
+    path: &Path,
+    mesh: &HighOrderMesh,
+    point_data: &[DataArray],
+    cell_data: &[DataArray],
+    format: OutputFormat,
 ) -> Result<(), IoError> {
     let Some(extension) = extension_of(path, &["vtu", "msh"]) else {
         return Err(IoError::UnknownFormat {
@@ -136,9 +157,9 @@ pub fn write_mesh_with(
         (&resampled, resampled_arrays.as_slice())
     };
     if extension == "vtu" {
-        write_vtu(path, mesh, point_data, cell_data)
+        write_vtu_with(path, mesh, point_data, cell_data, format.vtu)
     } else {
-        write_msh_with(path, mesh, point_data, cell_data)
+        write_msh_as(path, mesh, point_data, cell_data, format.msh)
     }
 }
 

@@ -21,6 +21,7 @@
 //! encodes binary arrays as inline base64 (uncompressed, little endian, `UInt64` size
 //! headers), which every VTK ≥ 5 reader accepts. Same input, same bytes.
 
+use rayon::prelude::*;
 use std::collections::HashMap;
 use std::io::Write;
 use std::path::Path;
@@ -52,7 +53,14 @@ pub enum VtuEncoding {
     /// Raw little-endian bytes, base64-encoded inline. Compact and exact.
     #[default]
     Base64,
+    /// Raw little-endian bytes in zlib-compressed blocks of 32 KiB (VTK's
+    /// `vtkZLibDataCompressor`, the blocks compressed in parallel), base64-encoded inline.
+    /// Exact; smaller, slower to write.
+    Zlib,
 }
+
+/// Uncompressed size of a zlib block (VTK's default).
+const ZLIB_BLOCK: usize = 1 << 15;
 
 /// Writes `mesh` to `path` as a VTK XML unstructured grid, arrays in base64.
 pub fn write_vtu(
@@ -204,7 +212,12 @@ fn write_document<W: Write>(
     writeln!(w, "<?xml version=\"1.0\"?>")?;
     writeln!(
         w,
-        "<VTKFile type=\"UnstructuredGrid\" version=\"2.2\" byte_order=\"LittleEndian\" header_type=\"UInt64\">"
+        "<VTKFile type=\"UnstructuredGrid\" version=\"2.2\" byte_order=\"LittleEndian\" header_type=\"UInt64\"{}>",
+        if encoding == VtuEncoding::Zlib {
+            " compressor=\"vtkZLibDataCompressor\""
+        } else {
+            ""
+        }
     )?;
     writeln!(w, "  <UnstructuredGrid>")?;
     writeln!(
@@ -282,10 +295,12 @@ fn write_document<W: Write>(
     Ok(())
 }
 
-/// One `<DataArray>` being written, ASCII or base64.
+/// One `<DataArray>` being written, ASCII or base64 (streamed, or collected to compress).
 struct Array<'w, W: Write> {
     w: &'w mut W,
     base64: Option<Base64>,
+    /// Zlib: the array's raw bytes, compressed on close.
+    raw: Option<Vec<u8>>,
     /// ASCII: whether the current line already has a value.
     line_started: bool,
 }
@@ -308,23 +323,25 @@ impl<'w, W: Write> Array<'w, W> {
         }
         let format = match encoding {
             VtuEncoding::Ascii => "ascii",
-            VtuEncoding::Base64 => "binary",
+            VtuEncoding::Base64 | VtuEncoding::Zlib => "binary",
         };
         writeln!(w, " format=\"{format}\">")?;
-        let base64 = match encoding {
-            VtuEncoding::Ascii => None,
+        let (base64, raw) = match encoding {
+            VtuEncoding::Ascii => (None, None),
             VtuEncoding::Base64 => {
                 write!(w, "          ")?;
                 let mut b = Base64::new();
                 // Uncompressed binary data is preceded by its size in bytes (header_type),
                 // encoded in the same base64 stream.
                 b.push(w, &(num_bytes as u64).to_le_bytes())?;
-                Some(b)
+                (Some(b), None)
             }
+            VtuEncoding::Zlib => (None, Some(Vec::with_capacity(num_bytes))),
         };
         Ok(Array {
             w,
             base64,
+            raw,
             line_started: false,
         })
     }
@@ -339,25 +356,28 @@ impl<'w, W: Write> Array<'w, W> {
         self.w.write_fmt(args)
     }
 
-    fn f64(&mut self, v: f64) -> std::io::Result<()> {
-        match &mut self.base64 {
-            Some(b) => b.push(self.w, &v.to_le_bytes()),
-            None => self.text(format_args!("{v:?}")),
+    /// One value: its little-endian `bytes` in binary encodings, `text` in ASCII.
+    fn value(&mut self, bytes: &[u8], text: std::fmt::Arguments) -> std::io::Result<()> {
+        if let Some(raw) = &mut self.raw {
+            raw.extend_from_slice(bytes);
+            return Ok(());
         }
+        match &mut self.base64 {
+            Some(b) => b.push(self.w, bytes),
+            None => self.text(text),
+        }
+    }
+
+    fn f64(&mut self, v: f64) -> std::io::Result<()> {
+        self.value(&v.to_le_bytes(), format_args!("{v:?}"))
     }
 
     fn i64(&mut self, v: i64) -> std::io::Result<()> {
-        match &mut self.base64 {
-            Some(b) => b.push(self.w, &v.to_le_bytes()),
-            None => self.text(format_args!("{v}")),
-        }
+        self.value(&v.to_le_bytes(), format_args!("{v}"))
     }
 
     fn u8(&mut self, v: u8) -> std::io::Result<()> {
-        match &mut self.base64 {
-            Some(b) => b.push(self.w, &[v]),
-            None => self.text(format_args!("{v}")),
-        }
+        self.value(&[v], format_args!("{v}"))
     }
 
     fn end_line(&mut self) -> std::io::Result<()> {
@@ -369,7 +389,11 @@ impl<'w, W: Write> Array<'w, W> {
     }
 
     fn close(mut self) -> std::io::Result<()> {
-        if let Some(b) = self.base64.take() {
+        if let Some(raw) = self.raw.take() {
+            write!(self.w, "          ")?;
+            write_zlib_blocks(self.w, &raw)?;
+            self.w.write_all(b"\n")?;
+        } else if let Some(b) = self.base64.take() {
             b.finish(self.w)?;
             self.w.write_all(b"\n")?;
         } else {
@@ -377,6 +401,39 @@ impl<'w, W: Write> Array<'w, W> {
         }
         writeln!(self.w, "        </DataArray>")
     }
+}
+
+/// `bytes` as VTK's zlib-compressed binary data, base64-encoded inline: the header
+/// (block count, block size, size of the last block, then each block's compressed size, as
+/// UInt64) and then the compressed blocks, each part base64-encoded on its own as VTK reads
+/// it. Blocks are compressed in parallel; the bytes do not depend on the thread count.
+fn write_zlib_blocks<W: Write>(w: &mut W, bytes: &[u8]) -> std::io::Result<()> {
+    use flate2::{write::ZlibEncoder, Compression};
+    let blocks: Vec<Vec<u8>> = bytes
+        .par_chunks(ZLIB_BLOCK)
+        .map(|block| {
+            let mut e = ZlibEncoder::new(Vec::new(), Compression::default());
+            e.write_all(block)?;
+            e.finish()
+        })
+        .collect::<std::io::Result<_>>()?;
+    let last = match bytes.len() % ZLIB_BLOCK {
+        0 if !bytes.is_empty() => ZLIB_BLOCK,
+        r => r,
+    };
+    let mut header = Base64::new();
+    for v in [blocks.len(), ZLIB_BLOCK, last]
+        .into_iter()
+        .chain(blocks.iter().map(Vec::len))
+    {
+        header.push(w, &(v as u64).to_le_bytes())?;
+    }
+    header.finish(w)?;
+    let mut data = Base64::new();
+    for b in &blocks {
+        data.push(w, b)?;
+    }
+    data.finish(w)
 }
 
 /// Streaming base64 encoder (standard alphabet, padded), one line.

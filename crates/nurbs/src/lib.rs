@@ -27,6 +27,7 @@ pub mod json;
 pub mod model;
 pub mod naca;
 pub mod shapes;
+pub mod step;
 pub mod surface;
 pub mod vec3;
 

@@ -9,11 +9,20 @@ use crate::{Histogram, QualityError, QualitySummary};
 
 /// The scaled-Jacobian histogram of `summary` as an SVG document (writing it is the
 /// caller's: this crate measures, it does not touch files).
+/// The bin of invalid elements (Ĩ ≤ 0) is red and titled with its count.
 pub fn scaled_jacobian_histogram_svg(summary: &QualitySummary) -> Result<String, QualityError> {
+    let histogram = &summary.scaled_jacobian_histogram;
+    let invalid = histogram.bins.first().map_or(0, |b| b.count);
+    let title = if invalid > 0 {
+        format!("Scaled Jacobian: {invalid} invalid element(s) (red)")
+    } else {
+        "Scaled Jacobian: no invalid element".to_string()
+    };
     histogram_svg(
-        &summary.scaled_jacobian_histogram,
-        "Scaled Jacobian",
+        histogram,
+        &title,
         "scaled Jacobian (bin upper edge; ≤0 = invalid)",
+        Some(0),
     )
     .map_err(|message| QualityError::Plot { message })
 }
@@ -24,12 +33,20 @@ pub fn stretching_histogram_svg(summary: &QualitySummary) -> Result<String, Qual
         &summary.stretching_histogram,
         "Stretching",
         "longest / shortest edge",
+        None,
     )
     .map_err(|message| QualityError::Plot { message })
 }
 
-/// A bar chart of the histogram's percentages, as an SVG document.
-pub fn histogram_svg(histogram: &Histogram, title: &str, x_label: &str) -> Result<String, String> {
+/// A bar chart of the histogram's percentages, as an SVG document, with each non-empty
+/// bin's element count above its bar (so that a handful of elements among thousands is
+/// still seen) and bin `alarm` (if any) in red.
+pub fn histogram_svg(
+    histogram: &Histogram,
+    title: &str,
+    x_label: &str,
+    alarm: Option<usize>,
+) -> Result<String, String> {
     let labels: Vec<&str> = histogram
         .bins
         .iter()
@@ -67,13 +84,42 @@ pub fn histogram_svg(histogram: &Histogram, title: &str, x_label: &str) -> Resul
             .y_desc("% of elements")
             .draw()
             .map_err(|x| e(&x))?;
+        let blue = RGBColor(70, 110, 180);
+        let alarm = alarm.filter(|&k| histogram.bins.get(k).is_some_and(|b| b.count > 0));
         chart
             .draw_series(
                 plotters::series::Histogram::vertical(&chart)
-                    .style(RGBColor(70, 110, 180).filled())
+                    .style_func(|k, _| {
+                        let index = match k {
+                            SegmentValue::Exact(i) | SegmentValue::CenterOf(i) => Some(*i as usize),
+                            SegmentValue::Last => None,
+                        };
+                        if index.is_some() && alarm == index {
+                            RED.filled()
+                        } else {
+                            blue.filled()
+                        }
+                    })
                     .margin(3)
                     .data(percentages.iter().enumerate().map(|(k, &p)| (k as u32, p))),
             )
+            .map_err(|x| e(&x))?;
+        let counts = histogram
+            .bins
+            .iter()
+            .enumerate()
+            .filter(|(_, b)| b.count > 0);
+        chart
+            .draw_series(counts.map(|(k, b)| {
+                Text::new(
+                    b.count.to_string(),
+                    (
+                        SegmentValue::CenterOf(k as u32),
+                        (b.percentage + 0.02 * y_max).min(y_max),
+                    ),
+                    ("sans-serif", 12).into_font().color(&BLACK),
+                )
+            }))
             .map_err(|x| e(&x))?;
         root.present().map_err(|x| e(&x))?;
     }

@@ -179,3 +179,55 @@ fn bad_arrays_are_rejected_before_writing() {
     assert!(err.contains("two cell data arrays are named 'q'"), "{err}");
     assert!(!path.exists());
 }
+
+#[test]
+fn zlib_file_reads_back_as_the_same_numbers() {
+    let dir = tempfile::tempdir().unwrap();
+    // Enough nodes for several 32 KiB blocks of coordinates.
+    let n = 40;
+    let mut grid = hocurve_mesh::LinearMesh {
+        dim: 2,
+        ..Default::default()
+    };
+    for j in 0..=n {
+        for i in 0..=n {
+            grid.vertices
+                .push([i as f64 / n as f64, (j as f64 / n as f64).sqrt(), 0.0]);
+        }
+    }
+    let v = |i: usize, j: usize| (j * (n + 1) + i) as u32;
+    for j in 0..n {
+        for i in 0..n {
+            for vertices in [
+                vec![v(i, j), v(i + 1, j), v(i + 1, j + 1)],
+                vec![v(i, j), v(i + 1, j + 1), v(i, j + 1)],
+            ] {
+                grid.cells.push(hocurve_mesh::Element {
+                    kind: Shape::Tri,
+                    vertices,
+                    entity: 1,
+                });
+            }
+        }
+    }
+    let big = HighOrderMesh::from_linear(&grid, 3, hocurve_nodes::NodeFamily::Equispaced).unwrap();
+    assert!(24 * big.nodes.len() > 3 * ZLIB_BLOCK);
+    for m in [&two_triangles(3), &big] {
+        let path = dir.path().join("z.vtu");
+        write_vtu_with(&path, m, &[], &[], VtuEncoding::Zlib).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("compressor=\"vtkZLibDataCompressor\""));
+        let back = crate::read_vtu(&path).unwrap();
+        assert_eq!(back.nodes, m.nodes);
+        assert_eq!(back.cells.len(), m.cells.len());
+        for (a, b) in back.cells.iter().zip(&m.cells) {
+            let xa: Vec<_> = a.nodes.iter().map(|&k| back.nodes[k as usize]).collect();
+            let xb: Vec<_> = b.nodes.iter().map(|&k| m.nodes[k as usize]).collect();
+            assert_eq!(xa, xb);
+        }
+        // Same input, same bytes.
+        let again = dir.path().join("z2.vtu");
+        write_vtu_with(&again, m, &[], &[], VtuEncoding::Zlib).unwrap();
+        assert_eq!(std::fs::read(&again).unwrap(), text.as_bytes());
+    }
+}

@@ -8,10 +8,10 @@ use crate::vec3::dot;
 use crate::{NurbsCurve, NurbsSurface};
 
 /// An affine map `x' = R x + T` as rows `[R_i1, R_i2, R_i3, T_i]` (the 124 layout).
-pub(super) type Affine = [[f64; 4]; 3];
+pub(crate) type Affine = [[f64; 4]; 3];
 
 /// The map of an entity without a 124 transformation matrix.
-pub(super) const IDENTITY: Affine = [
+pub(crate) const IDENTITY: Affine = [
     [1.0, 0.0, 0.0, 0.0],
     [0.0, 1.0, 0.0, 0.0],
     [0.0, 0.0, 1.0, 0.0],

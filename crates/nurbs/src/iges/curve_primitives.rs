@@ -9,7 +9,7 @@ use crate::vec3::{add, scale};
 use crate::{NurbsCurve, NurbsError};
 
 /// A full turn when `span` is 2π to [`RECOGNITION_TOLERANCE`] (exactly `TAU` then).
-pub(super) fn snap_full_turn(span: f64) -> f64 {
+pub(crate) fn snap_full_turn(span: f64) -> f64 {
     if (span - TAU).abs() <= RECOGNITION_TOLERANCE * TAU {
         TAU
     } else {
@@ -21,7 +21,7 @@ pub(super) fn snap_full_turn(span: f64) -> f64 {
 /// θ ∈ [start, start + span], 0 < span ≤ 2π, in ⌈span / 90°⌉ pieces (Piegl & Tiller A7.1):
 /// knots at the piece angles, middle control points at `1 / cos(Δ/2)` with weight `cos(Δ/2)`.
 /// Returns (knots, control points, weights); a full turn ends exactly on its first point.
-pub(super) fn rational_arc(
+pub(crate) fn rational_arc(
     center: [f64; 3],
     x_axis: [f64; 3],
     y_axis: [f64; 3],
@@ -143,6 +143,6 @@ pub(super) fn elliptic_arc(
 }
 
 /// The line segment from `start` to `end`, degree 1 on [0, 1].
-pub(super) fn line_segment(start: [f64; 3], end: [f64; 3]) -> Result<NurbsCurve, NurbsError> {
+pub(crate) fn line_segment(start: [f64; 3], end: [f64; 3]) -> Result<NurbsCurve, NurbsError> {
     NurbsCurve::non_rational(1, vec![0.0, 0.0, 1.0, 1.0], vec![start, end])
 }

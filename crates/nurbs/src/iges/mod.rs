@@ -20,13 +20,13 @@
 //! `affine`, `curve_primitives`, `restrict`, `swept`, `join` and `plane_patch`; `naming` names
 //! them.
 
-mod affine;
+pub(crate) mod affine;
 mod convert;
 mod convert_curves;
 mod convert_faces;
 mod convert_surfaces;
 mod converter;
-mod curve_primitives;
+pub(crate) mod curve_primitives;
 mod directory;
 mod entities;
 mod entity_parser;
@@ -39,11 +39,11 @@ mod naming;
 mod param_reader;
 mod params;
 mod parse;
-mod plane_patch;
+pub(crate) mod plane_patch;
 mod references;
 mod restrict;
 mod sections;
-mod swept;
+pub(crate) mod swept;
 mod tolerance;
 
 pub use convert::{geometry_from_iges, read_iges_geometry};

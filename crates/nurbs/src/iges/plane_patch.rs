@@ -14,7 +14,7 @@ const PLANE_MARGIN: f64 = 0.1;
 /// its definition space and `placed` maps it to model space; the patch is the rectangle, in
 /// an orthonormal in-plane frame, over the projections of `cover`, widened by
 /// [`PLANE_MARGIN`] of its larger side on every side.
-pub(super) fn plane_patch(
+pub(crate) fn plane_patch(
     coefficients: [f64; 4],
     placed: &Affine,
     cover: &[[f64; 3]],

@@ -9,7 +9,7 @@ use crate::{NurbsCurve, NurbsError, NurbsSurface};
 /// (right-handed) from angle `start` through `span` ∈ (0, 2π]: each control point `Q_j` of
 /// weight `w_j` sweeps the rational arc about its foot `O_j` on the axis, with `Q_j − O_j`
 /// and `axis × (Q_j − O_j)` as its frame; weights multiply (Piegl & Tiller A8.1).
-pub(super) fn revolve_curve(
+pub(crate) fn revolve_curve(
     generatrix: &NurbsCurve,
     origin: [f64; 3],
     axis: [f64; 3],
@@ -46,7 +46,7 @@ pub(super) fn revolve_curve(
 }
 
 /// Sweeps `directrix` along `sweep`: `S(u, v) = C(u) + v sweep`, v ∈ [0, 1] (degree 1).
-pub(super) fn extrude_curve(
+pub(crate) fn extrude_curve(
     directrix: &NurbsCurve,
     sweep: [f64; 3],
 ) -> Result<NurbsSurface, NurbsError> {
