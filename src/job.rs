@@ -11,6 +11,7 @@ use hocurve_geodesic::AssociationRule;
 use hocurve_io::IoError;
 use hocurve_mesh::{LinearMesh, MeshError, Shape};
 use hocurve_nurbs::iges::{read_iges_geometry, IgesError};
+use hocurve_nurbs::step::{read_step_geometry, StepError};
 use hocurve_nurbs::{read_geometry_json, GeometryInputError, GeometryModel};
 use hocurve_quality::QualityError;
 
@@ -30,6 +31,9 @@ pub enum JobError {
     /// An IGES geometry could not be read.
     #[error(transparent)]
     Iges(#[from] IgesError),
+    /// A STEP geometry could not be read.
+    #[error(transparent)]
+    Step(#[from] StepError),
     /// A bundled case could not be read.
     #[error(transparent)]
     Demo(#[from] DemoError),
@@ -54,7 +58,7 @@ pub enum JobError {
     #[error("could not write the report as JSON: {0}")]
     Report(#[from] serde_json::Error),
     /// A geometry file whose extension names no format we read.
-    #[error("{}: unknown geometry format (expected .json, .igs or .iges)", path.display())]
+    #[error("{}: unknown geometry format (expected .json, .igs, .iges, .step or .stp)", path.display())]
     UnknownGeometryFormat {
         /// The file.
         path: PathBuf,
@@ -156,7 +160,8 @@ impl Inputs {
 }
 
 /// Reads a geometry file by its extension: `.json` (analytic shapes, NACA, NURBS; facets
-/// associated by physical-group name) or `.igs`/`.iges` (by name, then by proximity).
+/// associated by physical-group name), `.igs`/`.iges` or `.step`/`.stp` (by name, then by
+/// proximity).
 pub fn read_geometry(path: &Path) -> Result<(GeometryModel, AssociationRule), JobError> {
     let ext = path
         .extension()
@@ -166,6 +171,7 @@ pub fn read_geometry(path: &Path) -> Result<(GeometryModel, AssociationRule), Jo
     match ext.as_str() {
         "json" => Ok((read_geometry_json(path)?, AssociationRule::NameOnly)),
         "igs" | "iges" => Ok((read_iges_geometry(path)?, AssociationRule::NameThenNearest)),
+        "step" | "stp" => Ok((read_step_geometry(path)?, AssociationRule::NameThenNearest)),
         _ => Err(JobError::UnknownGeometryFormat {
             path: path.to_path_buf(),
         }),

@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """Check a curved mesh written by hocurve against the geometry, with Gmsh as the evaluator.
 
-    target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs) GROUP [--distance-only]
+    target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs|.step) GROUP [--distance-only]
 
 - Every node of every boundary element of physical group GROUP (the curved wall) lies on
   the geometry: for a JSON sphere, | |x - c| - r | (a cylinder: its radial distance minus r;
   a circle: the same in the plane);
-  for IGES, the distance to the nearest
+  for IGES and STEP, the distance to the nearest
   face of the model as OpenCASCADE (Gmsh's `getClosestPoint`) computes it.
 - det J of every cell, by Gmsh's `getJacobians`, at the degree-2p Gauss points and at the
   element's own nodes, is positive; Ĩ = min det J / max det J over those points. For 2D
@@ -148,7 +148,7 @@ def distances(path, points, planar_mesh):
         rel = points - p0
         radial = rel - np.outer(rel @ axis, axis)
         return np.abs(np.linalg.norm(radial, axis=1) - r), 2.0 * r
-    # IGES: OpenCASCADE's closest point on each face, in a model of its own.
+    # IGES, STEP: OpenCASCADE's closest point on each face, in a model of its own.
     gmsh.model.add("geometry")
     gmsh.model.occ.importShapes(path)
     gmsh.model.occ.synchronize()

@@ -45,8 +45,8 @@ enum Command {
         /// Keep the elements straight-sided (no geometry, no curving).
         #[arg(long, conflicts_with = "geometry")]
         straight: bool,
-        /// Geometry to curve onto: JSON (analytic shapes, NACA airfoils, NURBS; see README)
-        /// or IGES (.igs/.iges).
+        /// Geometry to curve onto: JSON (analytic shapes, NACA airfoils, NURBS; see README),
+        /// IGES (.igs/.iges) or STEP (.step/.stp).
         #[arg(short, long)]
         geometry: Option<PathBuf>,
         /// Largest distance (in mesh units) of a boundary vertex from its geometry entity;

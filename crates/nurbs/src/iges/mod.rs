@@ -41,7 +41,7 @@ mod params;
 mod parse;
 pub(crate) mod plane_patch;
 mod references;
-mod restrict;
+pub(crate) mod restrict;
 mod sections;
 pub(crate) mod swept;
 mod tolerance;

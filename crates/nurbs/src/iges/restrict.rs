@@ -7,7 +7,7 @@ use crate::{NurbsCurve, NurbsSurface};
 
 /// The curve restricted to `[lo, hi]` when that lies strictly inside its domain (split at the
 /// ends); parameters are kept.
-pub(super) fn restrict_curve(c: NurbsCurve, lo: f64, hi: f64) -> Result<NurbsCurve, String> {
+pub(crate) fn restrict_curve(c: NurbsCurve, lo: f64, hi: f64) -> Result<NurbsCurve, String> {
     let (a, b) = c.domain();
     if !(lo.is_finite() && hi.is_finite() && lo < hi) {
         return Err(format!("empty parameter range [{lo}, {hi}]"));

@@ -14,8 +14,10 @@
 //!   `TRIMMED_CURVE`), each between its vertices, duplicates removed.
 //! - Placements (`AXIS2_PLACEMENT_3D`) are applied; assemblies whose parts are placed by a
 //!   transformation other than the identity are refused (not supported yet).
-//! - Units: coordinates are kept as written, as for IGES: Gmsh meshes an OpenCASCADE model
-//!   in the numbers of its file (millimetres for OpenCASCADE's own exports).
+//! - Units: lengths are converted to millimetres and angles to radians from the file's
+//!   `LENGTH_UNIT` and `PLANE_ANGLE_UNIT` (SI prefixes, or conversion-based units such as
+//!   inches and degrees), as OpenCASCADE reads STEP, so the geometry is in the numbers of a
+//!   mesh Gmsh makes from the same file.
 //!
 //! Names: a face's (edge's) name when it has a unique non-empty one, else `face#<id>`
 //! (`edge#<id>`); origins name the instance, its surface type and its line.
@@ -28,6 +30,7 @@ use super::parse::{read_step, StepFile, StepInstance, StepRecord, StepValue};
 use crate::iges::affine::IDENTITY;
 use crate::iges::curve_primitives::{line_segment, rational_arc, snap_full_turn};
 use crate::iges::plane_patch::plane_patch;
+use crate::iges::restrict::restrict_curve;
 use crate::iges::swept::{extrude_curve, revolve_curve};
 use crate::model::{EntityGeometry, GeometricEntity, GeometryModel};
 use crate::shapes::{self, AnalyticShape};
@@ -55,7 +58,15 @@ pub fn read_step_geometry(path: &Path) -> Result<GeometryModel, StepError> {
 /// Converts the faces (3D) or edges (2D) of a parsed STEP file into named exact NURBS
 /// surfaces or curves (see the module documentation).
 pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
-    let c = Converter { file };
+    let mut c = Converter {
+        file,
+        length: 1.0,
+        angle: 1.0,
+    };
+    c.length = c
+        .unit_factor("LENGTH_UNIT")?
+        .map_or(1.0, |metres| 1000.0 * metres);
+    c.angle = c.unit_factor("PLANE_ANGLE_UNIT")?.unwrap_or(1.0);
     c.check_assembly_placements()?;
     let faces: Vec<&StepInstance> = file
         .instances
@@ -84,7 +95,39 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
                 None,
             ));
         }
+        if converted.is_empty() {
+            // Wireframes: the curves of GEOMETRIC_CURVE_SETs (OpenCASCADE's bare edges).
+            for set in file.instances.values() {
+                if set.type_name() != "GEOMETRIC_CURVE_SET" {
+                    continue;
+                }
+                let items = c.params(set, 2)?[1].list().unwrap_or(&[]);
+                for item in items {
+                    let curve = c.get(item, set)?;
+                    let geometry = match curve.type_name().as_str() {
+                        "TRIMMED_CURVE" => c.trimmed_curve(curve)?,
+                        "CARTESIAN_POINT" => continue,
+                        _ => c.free_curve(curve)?,
+                    };
+                    let kind = curve.type_name();
+                    converted.push((curve, kind, EntityGeometry::Curve(geometry), None));
+                }
+            }
+        }
     }
+    // The same curve written twice (a model and its copy in another representation).
+    let mut unique: Vec<(&StepInstance, String, EntityGeometry, Option<AnalyticShape>)> =
+        Vec::new();
+    for item in converted {
+        let duplicate = unique.iter().any(|u| match (&u.2, &item.2) {
+            (EntityGeometry::Curve(a), EntityGeometry::Curve(b)) => a == b,
+            _ => false,
+        });
+        if !duplicate {
+            unique.push(item);
+        }
+    }
+    let converted = unique;
     if converted.is_empty() {
         return Err(StepError::Empty);
     }
@@ -144,9 +187,116 @@ struct Frame {
 
 struct Converter<'a> {
     file: &'a StepFile,
+    /// Millimetres per length unit of the file.
+    length: f64,
+    /// Radians per plane-angle unit of the file.
+    angle: f64,
 }
 
+/// SI prefixes as powers of ten.
+const SI_PREFIXES: [(&str, i32); 16] = [
+    ("EXA", 18),
+    ("PETA", 15),
+    ("TERA", 12),
+    ("GIGA", 9),
+    ("MEGA", 6),
+    ("KILO", 3),
+    ("HECTO", 2),
+    ("DECA", 1),
+    ("DECI", -1),
+    ("CENTI", -2),
+    ("MILLI", -3),
+    ("MICRO", -6),
+    ("NANO", -9),
+    ("PICO", -12),
+    ("FEMTO", -15),
+    ("ATTO", -18),
+];
+
 impl<'a> Converter<'a> {
+    /// The size of the file's unit of `kind` (`LENGTH_UNIT`: in metres; `PLANE_ANGLE_UNIT`:
+    /// in radians) as its representation contexts assign it (`GLOBAL_UNIT_ASSIGNED_CONTEXT`),
+    /// None when they assign none. Contexts with different units are refused.
+    fn unit_factor(&self, kind: &str) -> Result<Option<f64>, StepError> {
+        let mut found: Option<(f64, &StepInstance)> = None;
+        let mut assigned = Vec::new();
+        for c in self.file.instances.values() {
+            if let Some(r) = c.record("GLOBAL_UNIT_ASSIGNED_CONTEXT") {
+                for u in r.params.first().and_then(StepValue::list).unwrap_or(&[]) {
+                    assigned.push(self.get(u, c)?);
+                }
+            }
+        }
+        for i in assigned {
+            if i.record(kind).is_none() {
+                continue;
+            }
+            let f = self.unit_size(i, 0)?;
+            match found {
+                Some((g, first)) if (f - g).abs() > SAME * g.abs() => {
+                    return Err(self.unsupported(
+                        i,
+                        format!(
+                            " (a second {kind}, {f} against {g} of #{}: mixed units)",
+                            first.id
+                        ),
+                    ))
+                }
+                None => found = Some((f, i)),
+                _ => {}
+            }
+        }
+        Ok(found.map(|(f, _)| f))
+    }
+
+    /// The size of a unit instance in SI base units (metre, radian).
+    fn unit_size(&self, i: &StepInstance, depth: usize) -> Result<f64, StepError> {
+        if depth > MAX_DEPTH {
+            return Err(StepError::TooDeep {
+                id: i.id,
+                line: i.line,
+                limit: MAX_DEPTH,
+            });
+        }
+        if let Some(si) = i.record("SI_UNIT") {
+            let prefix = match si.params.first() {
+                Some(StepValue::Enumeration(p)) => SI_PREFIXES
+                    .iter()
+                    .find(|(name, _)| name == p)
+                    .map(|&(_, e)| e)
+                    .ok_or_else(|| self.unsupported(i, format!(" (SI prefix {p})")))?,
+                _ => 0,
+            };
+            return match si.params.get(1).and_then(StepValue::enumeration) {
+                Some("METRE" | "RADIAN") => Ok(10f64.powi(prefix)),
+                other => Err(self.unsupported(i, format!(" (SI unit {other:?})"))),
+            };
+        }
+        if let Some(c) = i.record("CONVERSION_BASED_UNIT") {
+            let measure = c
+                .params
+                .get(1)
+                .ok_or_else(|| self.fail(i, "a conversion-based unit without its measure"))?;
+            let m = self.get(measure, i)?;
+            let p = &m.records[0].params;
+            let (Some(value), Some(unit)) = (p.first().and_then(StepValue::real), p.get(1)) else {
+                return Err(self.fail(m, "expected a value and a unit"));
+            };
+            let base = self.unit_size(self.get(unit, m)?, depth + 1)?;
+            let size = value * base;
+            if size.is_nan() || size <= 0.0 {
+                return Err(self.fail(i, format!("a unit of size {size}")));
+            }
+            return Ok(size);
+        }
+        Err(self.unsupported(i, " (as a unit)"))
+    }
+
+    /// A length parameter, in millimetres.
+    fn length(&self, v: &StepValue, i: &StepInstance, what: &str) -> Result<f64, StepError> {
+        Ok(self.real(v, i, what)? * self.length)
+    }
+
     fn fail(&self, i: &StepInstance, reason: impl Into<String>) -> StepError {
         StepError::Geometry {
             id: i.id,
@@ -234,7 +384,8 @@ impl<'a> Converter<'a> {
     fn point(&self, v: &StepValue, parent: &StepInstance) -> Result<[f64; 3], StepError> {
         let i = self.get(v, parent)?;
         self.expect_type(i, "CARTESIAN_POINT")?;
-        self.triple(&self.params(i, 2)?[1], i, "coordinates")
+        let x = self.triple(&self.params(i, 2)?[1], i, "coordinates")?;
+        Ok(scale(x, self.length))
     }
 
     fn direction(&self, v: &StepValue, parent: &StepInstance) -> Result<[f64; 3], StepError> {
@@ -255,7 +406,7 @@ impl<'a> Converter<'a> {
         let p = self.params(i, 3)?;
         Ok(scale(
             self.direction(&p[1], i)?,
-            self.real(&p[2], i, "magnitude")?,
+            self.length(&p[2], i, "magnitude")?,
         ))
     }
 
@@ -358,17 +509,32 @@ impl<'a> Converter<'a> {
         let a = self.vertex(&p[1], edge)?;
         let b = self.vertex(&p[2], edge)?;
         let same_sense = p[4].enumeration() != Some("F");
-        let closed = p[1] == p[2] || distance(a, b) <= SAME * (1.0 + norm(a));
+        let closed = p[1] == p[2];
         let carrier = self.basis_curve(&p[3], edge, depth + 1)?;
+        self.bounded_curve(carrier, a, b, same_sense, closed)
+    }
+
+    /// The piece of `carrier` from `a` to `b` (its own direction when `same_sense`, else
+    /// the reverse), the whole closed curve when `closed`: lines as segments, circles and
+    /// ellipses as exact arcs, B-spline curves whole.
+    fn bounded_curve(
+        &self,
+        carrier: &StepInstance,
+        a: [f64; 3],
+        b: [f64; 3],
+        same_sense: bool,
+        closed: bool,
+    ) -> Result<NurbsCurve, StepError> {
+        let closed = closed || distance(a, b) <= SAME * (1.0 + norm(a));
         let fail = |r: String| self.fail(carrier, r);
         match carrier.type_name().as_str() {
             "LINE" => line_segment(a, b).map_err(|e| fail(e.to_string())),
             "CIRCLE" | "ELLIPSE" => {
                 let q = self.params(carrier, 3)?;
                 let f = self.placement(&q[1], carrier)?;
-                let r1 = self.real(&q[2], carrier, "radius")?;
+                let r1 = self.length(&q[2], carrier, "radius")?;
                 let r2 = if carrier.type_name() == "ELLIPSE" {
-                    self.real(&self.params(carrier, 4)?[3], carrier, "second semi-axis")?
+                    self.length(&self.params(carrier, 4)?[3], carrier, "second semi-axis")?
                 } else {
                     r1
                 };
@@ -379,7 +545,7 @@ impl<'a> Converter<'a> {
                     let d = sub(x, f.origin);
                     (dot(d, f.y) / r2).atan2(dot(d, f.x) / r1)
                 };
-                // The edge runs counter-clockwise about the axis when its sense agrees.
+                // The piece runs counter-clockwise about the axis when its sense agrees.
                 let (from, to) = if same_sense { (a, b) } else { (b, a) };
                 let start = angle(from);
                 let span = if closed {
@@ -398,6 +564,62 @@ impl<'a> Converter<'a> {
             }
             _ => self.free_curve(carrier),
         }
+    }
+
+    /// `TRIMMED_CURVE(name, basis, trim1, trim2, sense, preference)`: a B-spline basis
+    /// restricted to its parameter trims, other curves between the trim points (given as
+    /// points, or as parameters: distance along a line's vector, angle on a circle).
+    fn trimmed_curve(&self, i: &StepInstance) -> Result<NurbsCurve, StepError> {
+        let p = self.params(i, 5)?;
+        let basis = self.basis_curve(&p[1], i, 0)?;
+        let same_sense = p[4].enumeration() != Some("F");
+        fn trim(v: &StepValue) -> (Option<&StepValue>, Option<f64>) {
+            let items = v.list().unwrap_or(&[]);
+            let point = items.iter().find(|x| x.reference().is_some());
+            let parameter = items.iter().find_map(|x| match x {
+                StepValue::Typed(name, inner) if name == "PARAMETER_VALUE" => {
+                    inner.first().and_then(StepValue::real)
+                }
+                _ => None,
+            });
+            (point, parameter)
+        }
+        let ((p1, t1), (p2, t2)) = (trim(&p[2]), trim(&p[3]));
+        if basis.record("B_SPLINE_CURVE_WITH_KNOTS").is_some() {
+            let c = self.free_curve(basis)?;
+            let c = match (t1, t2) {
+                (Some(t1), Some(t2)) => {
+                    restrict_curve(c, t1.min(t2), t1.max(t2)).map_err(|r| self.fail(i, r))?
+                }
+                _ => c,
+            };
+            return Ok(if same_sense { c } else { reversed(c) });
+        }
+        let end = |point: Option<&StepValue>, t: Option<f64>| -> Result<[f64; 3], StepError> {
+            if let Some(v) = point {
+                return self.point(v, i);
+            }
+            let t = t.ok_or_else(|| self.fail(i, "a trim with neither point nor parameter"))?;
+            let q = self.params(basis, 3)?;
+            match basis.type_name().as_str() {
+                "LINE" => Ok(add(
+                    self.point(&q[1], basis)?,
+                    scale(self.vector(&q[2], basis)?, t),
+                )),
+                "CIRCLE" => {
+                    let f = self.placement(&q[1], basis)?;
+                    let r = self.length(&q[2], basis, "radius")?;
+                    let t = t * self.angle;
+                    Ok(add(
+                        f.origin,
+                        add(scale(f.x, r * t.cos()), scale(f.y, r * t.sin())),
+                    ))
+                }
+                _ => Err(self.unsupported(basis, " (trimmed by parameter)")),
+            }
+        };
+        let (a, b) = (end(p1, t1)?, end(p2, t2)?);
+        self.bounded_curve(basis, a, b, same_sense, false)
     }
 
     /// A bounded curve on its own (B-spline curves), for edges and swept surfaces.
@@ -573,7 +795,7 @@ impl<'a> Converter<'a> {
             "SPHERICAL_SURFACE" => {
                 let p = self.params(s, 3)?;
                 let f = self.placement(&p[1], s)?;
-                let r = self.real(&p[2], s, "radius")?;
+                let r = self.length(&p[2], s, "radius")?;
                 (
                     shapes::sphere(f.origin, r).map_err(|e| fail(e.to_string()))?,
                     AnalyticShape::new_sphere(f.origin, r).ok(),
@@ -582,7 +804,7 @@ impl<'a> Converter<'a> {
             "CYLINDRICAL_SURFACE" => {
                 let p = self.params(s, 3)?;
                 let f = self.placement(&p[1], s)?;
-                let r = self.real(&p[2], s, "radius")?;
+                let r = self.length(&p[2], s, "radius")?;
                 let range = self.extent(face, f.origin, f.z)?;
                 (
                     shapes::cylinder(f.origin, f.z, r, range).map_err(|e| fail(e.to_string()))?,
@@ -592,8 +814,8 @@ impl<'a> Converter<'a> {
             "TOROIDAL_SURFACE" => {
                 let p = self.params(s, 4)?;
                 let f = self.placement(&p[1], s)?;
-                let major = self.real(&p[2], s, "major radius")?;
-                let minor = self.real(&p[3], s, "minor radius")?;
+                let major = self.length(&p[2], s, "major radius")?;
+                let minor = self.length(&p[3], s, "minor radius")?;
                 (
                     shapes::torus(f.origin, f.z, major, minor).map_err(|e| fail(e.to_string()))?,
                     AnalyticShape::new_torus(f.origin, f.z, major, minor).ok(),
@@ -602,8 +824,8 @@ impl<'a> Converter<'a> {
             "CONICAL_SURFACE" => {
                 let p = self.params(s, 4)?;
                 let f = self.placement(&p[1], s)?;
-                let r = self.real(&p[2], s, "radius")?;
-                let angle = self.real(&p[3], s, "semi-angle")?;
+                let r = self.length(&p[2], s, "radius")?;
+                let angle = self.real(&p[3], s, "semi-angle")? * self.angle;
                 if !(angle.abs() > 0.0 && angle.abs() < 0.5 * std::f64::consts::PI) {
                     return Err(fail(format!(
                         "semi-angle {angle} (radians) out of (0, π/2)"
@@ -653,13 +875,27 @@ impl<'a> Converter<'a> {
                 let p = self.params(s, 3)?;
                 let g = self.free_curve(self.basis_curve(&p[1], s, 0)?)?;
                 let v = self.vector(&p[2], s)?;
-                let d = scale(v, 1.0 / norm(v).max(f64::MIN_POSITIVE));
-                // S(u, t) = C(u) + t d over the face's extent along d.
+                let length = norm(v);
+                if length.is_nan() || length <= 0.0 {
+                    return Err(fail("an extrusion vector of length zero".into()));
+                }
+                let d = scale(v, 1.0 / length);
+                // S(u, t) = C(u) + t d over the face's extent along d: exactly that extent
+                // when the curve lies in a plane across d (the face is then the surface
+                // between two such planes, as an IGES 122 is written), else widened.
                 let cover = self.face_cover(face)?;
                 let along = |x: &[f64; 3]| dot(*x, d);
                 let (lo, hi) = min_max(cover.iter().map(along));
                 let (clo, chi) = min_max(g.control_points.iter().map(along));
-                let (t0, t1) = widen(lo - chi, hi - clo);
+                let slack = SAME * (1.0 + length + chi.abs().max(clo.abs()));
+                let (t0, t1) = if chi - clo <= slack {
+                    (lo - chi, hi - clo)
+                } else {
+                    widen(lo - chi, hi - clo)
+                };
+                if t1 - t0 <= slack {
+                    return Err(fail("the face has no extent along the extrusion".into()));
+                }
                 let mut start = g.clone();
                 for x in &mut start.control_points {
                     *x = add(*x, scale(d, t0));
