@@ -11,8 +11,11 @@
 //! the geometry of faces and edges, a few hundred lines on top of a small parser.
 
 mod convert;
+mod curves;
 mod error;
 mod parse;
+mod surfaces;
+mod units;
 
 pub use convert::{geometry_from_step, read_step_geometry};
 pub use error::StepError;

@@ -1,6 +1,7 @@
 use super::*;
 use crate::iges::read_iges_geometry;
 use crate::step::parse_step;
+use crate::NurbsSurface;
 
 fn fixture(name: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR"))

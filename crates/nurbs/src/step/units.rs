@@ -1,0 +1,116 @@
+//! The file's units: lengths to millimetres and plane angles to radians, as OpenCASCADE
+//! reads STEP (so the geometry is in the numbers of a mesh Gmsh makes from the file).
+
+use super::convert::{Converter, MAX_DEPTH, SAME};
+use super::error::StepError;
+use super::parse::{StepInstance, StepValue};
+
+/// SI prefixes as powers of ten.
+const SI_PREFIXES: [(&str, i32); 16] = [
+    ("EXA", 18),
+    ("PETA", 15),
+    ("TERA", 12),
+    ("GIGA", 9),
+    ("MEGA", 6),
+    ("KILO", 3),
+    ("HECTO", 2),
+    ("DECA", 1),
+    ("DECI", -1),
+    ("CENTI", -2),
+    ("MILLI", -3),
+    ("MICRO", -6),
+    ("NANO", -9),
+    ("PICO", -12),
+    ("FEMTO", -15),
+    ("ATTO", -18),
+];
+
+impl Converter<'_> {
+    /// The size of the file's unit of `kind` (`LENGTH_UNIT`: in metres; `PLANE_ANGLE_UNIT`:
+    /// in radians) as its representation contexts assign it (`GLOBAL_UNIT_ASSIGNED_CONTEXT`),
+    /// None when they assign none. Contexts with different units are refused.
+    pub(super) fn unit_factor(&self, kind: &str) -> Result<Option<f64>, StepError> {
+        let mut found: Option<(f64, &StepInstance)> = None;
+        let mut assigned = Vec::new();
+        for c in self.file.instances.values() {
+            if let Some(r) = c.record("GLOBAL_UNIT_ASSIGNED_CONTEXT") {
+                for u in r.params.first().and_then(StepValue::list).unwrap_or(&[]) {
+                    assigned.push(self.get(u, c)?);
+                }
+            }
+        }
+        for i in assigned {
+            if i.record(kind).is_none() {
+                continue;
+            }
+            let f = self.unit_size(i, 0)?;
+            match found {
+                Some((g, first)) if (f - g).abs() > SAME * g.abs() => {
+                    return Err(self.unsupported(
+                        i,
+                        format!(
+                            " (a second {kind}, {f} against {g} of #{}: mixed units)",
+                            first.id
+                        ),
+                    ))
+                }
+                None => found = Some((f, i)),
+                _ => {}
+            }
+        }
+        Ok(found.map(|(f, _)| f))
+    }
+
+    /// The size of a unit instance in SI base units (metre, radian).
+    pub(super) fn unit_size(&self, i: &StepInstance, depth: usize) -> Result<f64, StepError> {
+        if depth > MAX_DEPTH {
+            return Err(StepError::TooDeep {
+                id: i.id,
+                line: i.line,
+                limit: MAX_DEPTH,
+            });
+        }
+        if let Some(si) = i.record("SI_UNIT") {
+            let prefix = match si.params.first() {
+                Some(StepValue::Enumeration(p)) => SI_PREFIXES
+                    .iter()
+                    .find(|(name, _)| name == p)
+                    .map(|&(_, e)| e)
+                    .ok_or_else(|| self.unsupported(i, format!(" (SI prefix {p})")))?,
+                _ => 0,
+            };
+            return match si.params.get(1).and_then(StepValue::enumeration) {
+                Some("METRE" | "RADIAN") => Ok(10f64.powi(prefix)),
+                other => Err(self.unsupported(i, format!(" (SI unit {other:?})"))),
+            };
+        }
+        if let Some(c) = i.record("CONVERSION_BASED_UNIT") {
+            let measure = c
+                .params
+                .get(1)
+                .ok_or_else(|| self.fail(i, "a conversion-based unit without its measure"))?;
+            let m = self.get(measure, i)?;
+            let p = &m.records[0].params;
+            let (Some(value), Some(unit)) = (p.first().and_then(StepValue::real), p.get(1)) else {
+                return Err(self.fail(m, "expected a value and a unit"));
+            };
+            let base = self.unit_size(self.get(unit, m)?, depth + 1)?;
+            let size = value * base;
+            if size.is_nan() || size <= 0.0 {
+                return Err(self.fail(i, format!("a unit of size {size}")));
+            }
+            return Ok(size);
+        }
+        Err(self.unsupported(i, " (as a unit)"))
+    }
+
+    /// A length parameter, in millimetres.
+    pub(super) fn length(
+        &self,
+        v: &StepValue,
+        i: &StepInstance,
+        what: &str,
+    ) -> Result<f64, StepError> {
+        Ok(self.real(v, i, what)? * self.length)
+    }
+}
