@@ -29,14 +29,16 @@
 //! patch over the bounding box of its trimming curves (or, with none, of the whole model)
 //! widened by 10% on each side, since an IGES plane has no parametrisation of its own.
 //!
-//! Units: coordinates are kept as written, whatever the Global section's units flag and
-//! model scale say. OpenCASCADE (through Gmsh) writes unit flag 2 (millimetres) with scale 1
-//! but the numbers are the CAD model's own, the same the mesh of that model uses.
+//! Units: coordinates are converted to millimetres by the Global section's units flag, as
+//! OpenCASCADE reads IGES (so the geometry is in the numbers of a mesh Gmsh makes from the
+//! same file: an IGES in metres or inches is meshed in millimetres); the model space scale
+//! is ignored, as OpenCASCADE does. Flag 3 (units named in the file) and unknown flags keep
+//! the numbers as written.
 
 use std::collections::BTreeSet;
 use std::path::Path;
 
-use super::affine::IDENTITY;
+use super::affine::{transform_curve, transform_shape, transform_surface, Affine, IDENTITY};
 use super::converter::{unsupported, Converted, Converter};
 use super::entities::EntityData;
 use super::error::IgesError;
@@ -54,7 +56,33 @@ pub fn geometry_from_iges(model: &IgesModel) -> Result<GeometryModel, IgesError>
     // The conversion follows references recursively: bounded once they are acyclic and
     // shallow.
     model.check_references()?;
-    Converter::new(model).convert()
+    let mut geometry = Converter::new(model).convert()?;
+    if let Some(metres) = model.global.unit_in_metres() {
+        let mm = 1000.0 * metres;
+        if mm != 1.0 {
+            let t: Affine = [
+                [mm, 0.0, 0.0, 0.0],
+                [0.0, mm, 0.0, 0.0],
+                [0.0, 0.0, mm, 0.0],
+            ];
+            for e in &mut geometry.entities {
+                let scaled = match &e.geometry {
+                    EntityGeometry::Curve(c) => {
+                        transform_curve(c.clone(), &t).map(EntityGeometry::Curve)
+                    }
+                    EntityGeometry::Surface(s) => {
+                        transform_surface(s.clone(), &t).map(EntityGeometry::Surface)
+                    }
+                };
+                e.geometry = scaled.map_err(|reason| IgesError::Units {
+                    entity: e.name.clone(),
+                    reason,
+                })?;
+                e.analytic = e.analytic.and_then(|a| transform_shape(a, &t));
+            }
+        }
+    }
+    Ok(geometry)
 }
 
 /// Reads an IGES file and converts it with [`geometry_from_iges`].

@@ -11,6 +11,8 @@ pub enum IgesError {
         #[source]
         source: std::io::Error,
     },
+    #[error("IGES entity {entity}: converting to millimetres failed: {reason}")]
+    Units { entity: String, reason: String },
     #[error("IGES line {line}: expected {expected}, found {found}")]
     Syntax {
         line: usize,
@@ -134,7 +136,7 @@ impl IgesError {
     /// The 1-based file line the error is about (`None` for I/O errors).
     pub fn line(&self) -> Option<usize> {
         match self {
-            IgesError::Io { .. } => None,
+            IgesError::Io { .. } | IgesError::Units { .. } => None,
             IgesError::Syntax { line, .. }
             | IgesError::Section { line, .. }
             | IgesError::Sequence { line, .. }

@@ -774,3 +774,33 @@ fn joining_a_long_spline_takes_linear_time_and_keeps_it() {
         assert!(d < 1e-9, "{t}: {d}");
     }
 }
+
+/// IGES too: OpenCASCADE reads it in millimetres whatever its units flag, so do we.
+#[test]
+fn iges_lengths_are_read_in_millimetres() {
+    let text = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cad/sphere_occ.igs"),
+    )
+    .unwrap();
+    assert!(text.contains(",1.,2,2HMM,"));
+    for (flag, name, radius) in [
+        ("6", "2HM ", 1000.0),
+        ("1", "2HIN", 25.4),
+        ("2", "2HMM", 1.0),
+    ] {
+        let edited = text.replacen(",1.,2,2HMM,", &format!(",1.,{flag},{name},"), 1);
+        let model = geometry_from_iges(&crate::iges::parse_iges(&edited).unwrap()).unwrap();
+        let found = model
+            .entities
+            .iter()
+            .find_map(|e| match e.analytic {
+                Some(crate::shapes::AnalyticShape::Sphere { radius, .. }) => Some(radius),
+                _ => None,
+            })
+            .unwrap();
+        assert!(
+            (found - radius).abs() < 1e-12 * radius,
+            "flag {flag}: {found}"
+        );
+    }
+}

@@ -510,6 +510,7 @@ fn kind(e: &IgesError) -> &'static str {
         IgesError::ReferenceCycle { .. } => "ReferenceCycle",
         IgesError::NestingTooDeep { .. } => "NestingTooDeep",
         IgesError::ExpansionTooLarge { .. } => "ExpansionTooLarge",
+        IgesError::Units { .. } => "Units",
     }
 }
 
