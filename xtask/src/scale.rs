@@ -85,6 +85,9 @@ pub fn scale(args: &[String]) -> Result<()> {
             .args(["--order", &order.to_string()])
             .args(["--geometry", "fixtures/sphere/sphere.json", "-o"])
             .arg(out.join(format!("hocurve_{factor}_p{order}.msh")))
+            // Binary MSH, as large meshes travel (Gmsh's `-bin`): the I/O share is measured
+            // on it.
+            .arg("--binary")
             .arg("--report")
             .arg(&report)
             .output()
@@ -250,9 +253,9 @@ fn print_table(rows: &[Row], order: usize) {
     println!();
     println!("sphere in a box at p = {order}: hocurve (default options) and Gmsh's setOrder, seconds and MB");
     println!(
-        "{:>6} {:>8} {:>9} | {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>7} | {:>7} {:>7} | {:>6}",
-        "factor", "tets", "dofs", "nodes", "bound", "assem", "setup", "iters", "qual", "write", "its",
-        "total", "peak", "g.proj", "g.peak", "ratio"
+        "{:>6} {:>8} {:>9} | {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>6} {:>7} {:>5} {:>7} | {:>7} {:>7} | {:>6}",
+        "factor", "tets", "dofs", "read", "nodes", "bound", "assem", "setup", "iters", "qual", "write", "its",
+        "total", "I/O%", "peak", "g.proj", "g.peak", "ratio"
     );
     let mut fit = Vec::new();
     for row in rows {
@@ -265,10 +268,11 @@ fn print_table(rows: &[Row], order: usize) {
                 let total = f(&t["total"]);
                 fit.push((tets.ln(), total.ln()));
                 println!(
-                    "{:>6} {:>8} {:>9} | {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6} {:>7.2} {:>7.0} | {:>7.2} {:>7.0} | {:>6.1}",
+                    "{:>6} {:>8} {:>9} | {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6.2} {:>6} {:>7.2} {:>5.1} {:>7.0} | {:>7.2} {:>7.0} | {:>6.1}",
                     row.factor,
                     tets,
                     r["dofs"].as_u64().unwrap_or(0),
+                    f(&t["read"]),
                     f(&t["high_order_nodes"]) + f(&t["association"]),
                     f(&t["boundary_nodes"]),
                     f(&t["assembly"]),
@@ -278,6 +282,7 @@ fn print_table(rows: &[Row], order: usize) {
                     f(&t["write"]),
                     r["iterations"].as_u64().unwrap_or(0),
                     total,
+                    100.0 * (f(&t["read"]) + f(&t["write"])) / total,
                     f(&r["peak_memory_mb"]),
                     g_time,
                     g_peak,
@@ -292,7 +297,8 @@ fn print_table(rows: &[Row], order: usize) {
     }
     println!("nodes = order-p nodes and boundary association; bound = boundary nodes; assem = stiffness assembly;");
     println!("setup = p-multigrid set-up (coarse levels, p = 1 factorisation, smoothers); iters = CG iterations (its of them);");
-    println!("qual = quality and Bézier certification; total = the whole process (read to write); peak = peak resident memory;");
+    println!("qual = quality and Bézier certification; write = binary MSH 4.1 out; total = the whole process (read to write);");
+    println!("I/O% = (read + write) / total; peak = peak resident memory;");
     println!("g.proj = Gmsh's setOrder (projection, no optimisation) on the same mesh, g.peak its process's peak; ratio = total / g.proj.");
     if fit.len() >= 2 {
         let n = fit.len() as f64;
