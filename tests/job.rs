@@ -113,7 +113,43 @@ fn outputs_and_geometry_formats_are_checked_by_extension() {
     outputs.plots = Some(dir.path().join("missing/plots"));
     assert!(matches!(outputs.check(), Err(JobError::Io(_))));
     assert!(matches!(
-        read_geometry(&dir.path().join("model.step")),
+        read_geometry(&dir.path().join("model.sat")),
         Err(JobError::UnknownGeometryFormat { .. })
     ));
+    // STEP is read (a missing file is an I/O error of the STEP reader).
+    assert!(matches!(
+        read_geometry(&dir.path().join("model.step")),
+        Err(JobError::Step(_))
+    ));
+}
+
+/// The same model from STEP and from IGES (both OpenCASCADE's exports) curves to the same
+/// mesh: the sphere's nodes by the exact sphere, bit for bit up to round-off.
+#[test]
+fn step_and_iges_give_the_same_curved_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut nodes = Vec::new();
+    for ext in ["igs", "step"] {
+        let outputs = Outputs {
+            mesh: dir.path().join(format!("sphere_{ext}.msh")),
+            report: None,
+            plots: None,
+            format: Default::default(),
+        };
+        let inputs = Inputs::read(
+            &fixture("sphere_coarse.msh"),
+            Some(&fixture(&format!("sphere_coarse.{ext}"))),
+        )
+        .unwrap();
+        let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |_| {}).unwrap();
+        assert!(finished.defects.is_empty(), "{ext}: {:?}", finished.defects);
+        assert!(finished.curved.report.max_geometry_distance < 1e-12);
+        nodes.push(finished.curved.mesh.nodes);
+    }
+    let gap = nodes[0]
+        .iter()
+        .zip(&nodes[1])
+        .flat_map(|(a, b)| (0..3).map(move |d| (a[d] - b[d]).abs()))
+        .fold(0.0, f64::max);
+    assert!(gap < 1e-12, "{gap:e}");
 }
