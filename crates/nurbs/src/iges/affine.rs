@@ -18,7 +18,7 @@ pub(crate) const IDENTITY: Affine = [
 ];
 
 /// The map applied to the point `x`.
-pub(super) fn apply(t: &Affine, x: [f64; 3]) -> [f64; 3] {
+pub(crate) fn apply(t: &Affine, x: [f64; 3]) -> [f64; 3] {
     let mut y = [0.0; 3];
     for i in 0..3 {
         y[i] = t[i][0] * x[0] + t[i][1] * x[1] + t[i][2] * x[2] + t[i][3];
@@ -27,7 +27,7 @@ pub(super) fn apply(t: &Affine, x: [f64; 3]) -> [f64; 3] {
 }
 
 /// The linear part `R v` (for directions).
-pub(super) fn apply_linear(t: &Affine, v: [f64; 3]) -> [f64; 3] {
+pub(crate) fn apply_linear(t: &Affine, v: [f64; 3]) -> [f64; 3] {
     let mut y = [0.0; 3];
     for i in 0..3 {
         y[i] = t[i][0] * v[0] + t[i][1] * v[1] + t[i][2] * v[2];
@@ -36,7 +36,7 @@ pub(super) fn apply_linear(t: &Affine, v: [f64; 3]) -> [f64; 3] {
 }
 
 /// `a ∘ b`: apply `b` first, then `a`.
-pub(super) fn compose(a: &Affine, b: &Affine) -> Affine {
+pub(crate) fn compose(a: &Affine, b: &Affine) -> Affine {
     let mut c = [[0.0; 4]; 3];
     for i in 0..3 {
         for j in 0..4 {
@@ -71,7 +71,7 @@ pub(super) fn similarity_scale(t: &Affine) -> Option<f64> {
 
 /// The curve with `t` applied to its control points; an error when that leaves the
 /// floating-point range (huge matrices or coordinates in the file).
-pub(super) fn transform_curve(mut c: NurbsCurve, t: &Affine) -> Result<NurbsCurve, String> {
+pub(crate) fn transform_curve(mut c: NurbsCurve, t: &Affine) -> Result<NurbsCurve, String> {
     if *t != IDENTITY {
         transform_points(&mut c.control_points, t)?;
     }
@@ -79,7 +79,7 @@ pub(super) fn transform_curve(mut c: NurbsCurve, t: &Affine) -> Result<NurbsCurv
 }
 
 /// The surface with `t` applied to its control points (an error as [`transform_curve`]).
-pub(super) fn transform_surface(mut s: NurbsSurface, t: &Affine) -> Result<NurbsSurface, String> {
+pub(crate) fn transform_surface(mut s: NurbsSurface, t: &Affine) -> Result<NurbsSurface, String> {
     if *t != IDENTITY {
         transform_points(&mut s.control_points, t)?;
     }
@@ -101,7 +101,7 @@ fn transform_points(points: &mut [[f64; 3]], t: &Affine) -> Result<(), String> {
 }
 
 /// The analytic shape mapped by `t`, when `t` is a similarity (else there is none).
-pub(super) fn transform_shape(shape: AnalyticShape, t: &Affine) -> Option<AnalyticShape> {
+pub(crate) fn transform_shape(shape: AnalyticShape, t: &Affine) -> Option<AnalyticShape> {
     let s = similarity_scale(t)?;
     match shape {
         AnalyticShape::Circle {

@@ -12,8 +12,9 @@
 //! - A 2D model (every face a plane, all in one plane) is its edges (`EDGE_CURVE` on `LINE`,
 //!   `CIRCLE`, `ELLIPSE` and B-spline curves, through `SURFACE_CURVE`, `SEAM_CURVE` and
 //!   `TRIMMED_CURVE`), each between its vertices, duplicates removed.
-//! - Placements (`AXIS2_PLACEMENT_3D`) are applied; assemblies whose parts are placed by a
-//!   transformation other than the identity are refused (not supported yet).
+//! - Placements (`AXIS2_PLACEMENT_3D`) are applied, and the parts of an assembly are put in
+//!   place by their representation relationships ([`super::placements`]), once per
+//!   occurrence.
 //! - Units: lengths are converted to millimetres and angles to radians from the file's
 //!   `LENGTH_UNIT` and `PLANE_ANGLE_UNIT` (SI prefixes, or conversion-based units such as
 //!   inches and degrees), as OpenCASCADE reads STEP, so the geometry is in the numbers of a
@@ -26,9 +27,10 @@ use std::path::Path;
 
 use super::error::StepError;
 use super::parse::{read_step, StepFile, StepInstance, StepValue};
+use crate::iges::affine::{transform_curve, transform_shape, transform_surface, IDENTITY};
 use crate::model::{EntityGeometry, GeometricEntity, GeometryModel};
 use crate::shapes::AnalyticShape;
-use crate::vec3::{cross, distance, dot, norm, scale, sub};
+use crate::vec3::{cross, dot, norm, scale, sub};
 
 /// How deep references are followed (STEP geometry is a few levels deep; a cycle is not).
 pub(super) const MAX_DEPTH: usize = 64;
@@ -60,14 +62,14 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
         .unit_factor("LENGTH_UNIT")?
         .map_or(1.0, |metres| 1000.0 * metres);
     c.angle = c.unit_factor("PLANE_ANGLE_UNIT")?.unwrap_or(1.0);
-    c.check_assembly_placements()?;
+    let placements = c.placements()?;
     let faces: Vec<&StepInstance> = file
         .instances
         .values()
         .filter(|i| matches!(i.type_name().as_str(), "ADVANCED_FACE" | "FACE_SURFACE"))
         .collect();
     let mut converted = Vec::new();
-    if !faces.is_empty() && !c.is_planar_model(&faces)? {
+    if !faces.is_empty() && !c.is_planar_model(&faces, &placements)? {
         for face in faces {
             let (surface, analytic, kind) = c.face_surface(face)?;
             converted.push((face, kind, EntityGeometry::Surface(surface), analytic));
@@ -108,10 +110,35 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
             }
         }
     }
+    // Each item once per occurrence of its part, carried into place.
+    let mut placed = Vec::with_capacity(converted.len());
+    for (i, kind, geometry, analytic) in converted {
+        for t in placements.of(i.id) {
+            if t == IDENTITY {
+                placed.push((i, kind.clone(), geometry.clone(), analytic));
+                continue;
+            }
+            let moved = match &geometry {
+                EntityGeometry::Curve(g) => {
+                    transform_curve(g.clone(), &t).map(EntityGeometry::Curve)
+                }
+                EntityGeometry::Surface(g) => {
+                    transform_surface(g.clone(), &t).map(EntityGeometry::Surface)
+                }
+            }
+            .map_err(|r| c.fail(i, format!("placing it in its assembly: {r}")))?;
+            placed.push((
+                i,
+                kind.clone(),
+                moved,
+                analytic.and_then(|a| transform_shape(a, &t)),
+            ));
+        }
+    }
     // The same curve written twice (a model and its copy in another representation).
     let mut unique: Vec<(&StepInstance, String, EntityGeometry, Option<AnalyticShape>)> =
         Vec::new();
-    for item in converted {
+    for item in placed {
         let duplicate = unique.iter().any(|u| match (&u.2, &item.2) {
             (EntityGeometry::Curve(a), EntityGeometry::Curve(b)) => a == b,
             _ => false,
@@ -138,21 +165,30 @@ fn name_entities(
         _ => None,
     };
     let labels: Vec<Option<String>> = converted.iter().map(|(i, ..)| label(i)).collect();
+    let mut seen: std::collections::BTreeMap<u64, usize> = std::collections::BTreeMap::new();
     converted
         .into_iter()
         .zip(&labels)
         .map(|((i, kind, geometry, analytic), l)| {
+            let occurrence = {
+                let n = seen.entry(i.id).or_insert(0);
+                *n += 1;
+                *n
+            };
             let what = if matches!(geometry, EntityGeometry::Curve(_)) {
                 "edge"
             } else {
                 "face"
             };
-            let name = match l {
+            let mut name = match l {
                 Some(l) if labels.iter().filter(|x| x.as_ref() == Some(l)).count() == 1 => {
                     l.clone()
                 }
                 _ => format!("{what}#{}", i.id),
             };
+            if occurrence > 1 {
+                name = format!("{name}.{occurrence}");
+            }
             let mut entity = GeometricEntity::new(
                 name,
                 format!(
@@ -363,31 +399,6 @@ impl<'a> Converter<'a> {
             y: cross(z, x),
             z,
         })
-    }
-
-    /// Assemblies: parts placed by a transformation other than the identity are refused.
-    pub(super) fn check_assembly_placements(&self) -> Result<(), StepError> {
-        for i in self.file.instances.values() {
-            let Some(r) = i.record("ITEM_DEFINED_TRANSFORMATION") else {
-                continue;
-            };
-            if r.params.len() < 4 {
-                return Err(self.fail(i, "ITEM_DEFINED_TRANSFORMATION needs two placements"));
-            }
-            let a = self.placement(&r.params[2], i)?;
-            let b = self.placement(&r.params[3], i)?;
-            let size = 1.0 + norm(a.origin).max(norm(b.origin));
-            let same = distance(a.origin, b.origin) <= SAME * size
-                && distance(a.x, b.x) <= SAME
-                && distance(a.z, b.z) <= SAME;
-            if !same {
-                return Err(self.unsupported(
-                    i,
-                    " (an assembly part placed by a transformation other than the identity; export the model as one part)",
-                ));
-            }
-        }
-        Ok(())
     }
 }
 

@@ -14,6 +14,7 @@ mod convert;
 mod curves;
 mod error;
 mod parse;
+mod placements;
 mod surfaces;
 mod units;
 

@@ -4,11 +4,13 @@
 
 use std::f64::consts::TAU;
 
-use super::convert::{Converter, Frame, EDGE_SAMPLES, EXTENT_MARGIN, SAME};
+use super::convert::{Converter, EDGE_SAMPLES, EXTENT_MARGIN, SAME};
 use super::curves::integer;
 use super::error::StepError;
 use super::parse::{StepInstance, StepRecord, StepValue};
+use super::placements::Placements;
 use crate::iges::affine::IDENTITY;
+use crate::iges::affine::{apply, apply_linear};
 use crate::iges::curve_primitives::line_segment;
 use crate::iges::plane_patch::plane_patch;
 use crate::iges::swept::{extrude_curve, revolve_curve};
@@ -68,22 +70,28 @@ impl<'a> Converter<'a> {
     }
 
     /// Whether every face lies on a plane and all those planes are one.
-    pub(super) fn is_planar_model(&self, faces: &[&StepInstance]) -> Result<bool, StepError> {
-        let mut first: Option<Frame> = None;
+    pub(super) fn is_planar_model(
+        &self,
+        faces: &[&StepInstance],
+        placements: &Placements,
+    ) -> Result<bool, StepError> {
+        let mut first: Option<([f64; 3], [f64; 3])> = None;
         for &face in faces {
             let s = self.face_geometry(face)?;
             if s.type_name() != "PLANE" {
                 return Ok(false);
             }
             let f = self.placement(&self.params(s, 2)?[1], s)?;
-            match first {
-                None => first = Some(f),
-                Some(g) => {
-                    let size = 1.0 + norm(g.origin).max(norm(f.origin));
-                    if norm(cross(f.z, g.z)) > SAME
-                        || dot(sub(f.origin, g.origin), g.z).abs() > SAME * size
-                    {
-                        return Ok(false);
+            for t in placements.of(face.id) {
+                let (o, z) = (apply(&t, f.origin), apply_linear(&t, f.z));
+                let z = scale(z, 1.0 / norm(z));
+                match first {
+                    None => first = Some((o, z)),
+                    Some((go, gz)) => {
+                        let size = 1.0 + norm(go).max(norm(o));
+                        if norm(cross(z, gz)) > SAME || dot(sub(o, go), gz).abs() > SAME * size {
+                            return Ok(false);
+                        }
                     }
                 }
             }

@@ -1,6 +1,7 @@
 use super::*;
 use crate::iges::read_iges_geometry;
 use crate::step::parse_step;
+use crate::vec3::distance;
 use crate::NurbsSurface;
 
 fn fixture(name: &str) -> std::path::PathBuf {
@@ -177,13 +178,8 @@ fn bad_models_are_refused_with_the_instance_and_line() {
         ("#1 = ADVANCED_FACE('',(),#9,.T.);\n", "refers to #9, which is not in the file"),
         ("#1 = CARTESIAN_POINT('',(0.,0.,0.));\n", "nothing to curve onto"),
         (
-            "#1 = CARTESIAN_POINT('',(0.,0.,0.));
-#2 = CARTESIAN_POINT('',(5.,0.,0.));
-#3 = AXIS2_PLACEMENT_3D('',#1,$,$);
-#4 = AXIS2_PLACEMENT_3D('',#2,$,$);
-#5 = ITEM_DEFINED_TRANSFORMATION('','',#3,#4);
-",
-            "transformation other than the identity",
+            "#1 = ADVANCED_FACE('',(),#2,.T.);\n#2 = PLANE('',#3);\n#3 = AXIS2_PLACEMENT_3D('',#4,$,$);\n#4 = CARTESIAN_POINT('',(0.,0.,0.));\n#5 = SHAPE_REPRESENTATION('',(#6),$);\n#6 = MAPPED_ITEM('',#7,#3);\n",
+            "a mapped item",
         ),
         (
             "#1 = ADVANCED_FACE('',(),#2,.T.);\n#2 = SPHERICAL_SURFACE('',#3,-1.);\n#3 = AXIS2_PLACEMENT_3D('',#4,$,$);\n#4 = CARTESIAN_POINT('',(0.,0.,0.));\n",
@@ -229,4 +225,58 @@ fn lengths_are_read_in_millimetres() {
             "#900001 = LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE(25.4),#900003);\n#900002 = DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.);\n#900003 = ( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );\nENDSEC;\nEND-ISO-10303-21;",
         );
     assert!((radius(&inch) - 25.4).abs() < 1e-12);
+}
+
+/// An assembly part placed by a transformation is carried into place as OpenCASCADE reads
+/// it (its frame `item_1` onto `item_2`), and a part placed twice gives its faces twice.
+#[test]
+fn assembly_parts_are_put_in_place() {
+    let text = std::fs::read_to_string(fixture("shapes.step")).unwrap();
+    // The cone (part 5) moved to x = 5 with its axis along x (Gmsh/OpenCASCADE put it in
+    // [6, 7] × [0.6, 1.4]²), and placed a second time, turned the other way at x = −5.
+    let moved = text
+        .replace("#32 = CARTESIAN_POINT('',(0.,0.,0.));", "#32 = CARTESIAN_POINT('',(5.,0.,0.));")
+        .replace("#33 = DIRECTION('',(0.,0.,1.));", "#33 = DIRECTION('',(1.,0.,0.));")
+        .replace("#34 = DIRECTION('',(1.,0.,-0.));", "#34 = DIRECTION('',(0.,1.,0.));")
+        .replace(
+            "ENDSEC;\nEND-ISO-10303-21;",
+            "#900001 = ( REPRESENTATION_RELATIONSHIP('','',#622,#10) REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#900002) SHAPE_REPRESENTATION_RELATIONSHIP() );
+#900002 = ITEM_DEFINED_TRANSFORMATION('','',#11,#900003);
+#900003 = AXIS2_PLACEMENT_3D('',#900004,#900005,#900006);
+#900004 = CARTESIAN_POINT('',(-5.,0.,0.));
+#900005 = DIRECTION('',(-1.,0.,0.));
+#900006 = DIRECTION('',(0.,1.,0.));
+ENDSEC;\nEND-ISO-10303-21;",
+        );
+    let model = geometry_from_step(&parse_step(moved.as_bytes()).unwrap()).unwrap();
+    // Box 6, sphere, torus, cylinder 3, cone 3 twice.
+    assert_eq!(model.entities.len(), 17);
+    let tan = 0.291456794478f64.tan();
+    let cones: Vec<_> = model
+        .entities
+        .iter()
+        .filter(|e| e.origin.contains("CONICAL"))
+        .collect();
+    assert_eq!(cones.len(), 2);
+    assert!(cones[1].name.ends_with(".2"), "{}", cones[1].name);
+    for (cone, sign) in cones.iter().zip([1.0, -1.0]) {
+        let EntityGeometry::Surface(s) = &cone.geometry else {
+            panic!()
+        };
+        for x in samples(s) {
+            // Local height z = sign (X − 5 sign); axis Y = 1, Z = 1 ... carried: the local
+            // axis x = y = 1 becomes Y = 1 (local x → Y) and Z = ±1 (local y → ±Z).
+            let z = sign * (x[0] - 5.0 * sign);
+            let r = (x[1] - 1.0).hypot(x[2] - sign);
+            assert!((r - (0.4 + (1.0 - z) * tan)).abs() < 1e-12, "{:?}", x);
+            assert!(z > 0.85 && z < 2.15, "{z}");
+        }
+    }
+    // The box is where it was.
+    let planes = model
+        .entities
+        .iter()
+        .filter(|e| e.origin.contains("on PLANE"))
+        .count();
+    assert_eq!(planes, 6 + 2 + 2 * 2);
 }
