@@ -359,7 +359,7 @@ fn interop(args: &[String]) -> Result<()> {
 
     run(
         "build hocurve",
-        cargo().args(["build", "-p", "hocurve-cli"]),
+        cargo().args(["build", "--profile", "test", "-p", "hocurve-cli"]),
     )?;
     let hocurve = target_dir().join("debug").join("hocurve");
     let fixtures = [

@@ -96,12 +96,71 @@ fn temporary_name(path: &Path, keep_extension: bool) -> PathBuf {
     folder_of(path).join(tmp)
 }
 
+/// Bytes written between two early write-backs of a [`SyncedFile`].
+const SYNC_EVERY: u64 = 64 << 20;
+
+/// A file being written whose data is pushed to the disk while it is written: every
+/// [`SYNC_EVERY`] bytes a helper thread syncs what has been written so far (on a clone of
+/// the handle), so that the sync that must precede the rename ([`write_atomically`]) finds
+/// little left to do instead of the whole file (0.55 s of a 460 MB mesh on this machine).
+pub struct SyncedFile {
+    file: File,
+    since_sync: u64,
+    /// The helper's last sync, if not joined yet.
+    syncing: Option<std::thread::JoinHandle<std::io::Result<()>>>,
+}
+
+impl SyncedFile {
+    fn new(file: File) -> Self {
+        SyncedFile {
+            file,
+            since_sync: 0,
+            syncing: None,
+        }
+    }
+
+    /// Waits for the helper's sync, passing on its error.
+    fn join(&mut self) -> std::io::Result<()> {
+        match self.syncing.take() {
+            Some(handle) => handle
+                .join()
+                .unwrap_or_else(|_| Err(std::io::Error::other("the sync thread panicked"))),
+            None => Ok(()),
+        }
+    }
+
+    /// Everything written is on the disk (the helper's sync joined, then a final one).
+    fn sync_all(mut self) -> std::io::Result<()> {
+        self.join()?;
+        self.file.sync_all()
+    }
+}
+
+impl Write for SyncedFile {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let n = self.file.write(buf)?;
+        self.since_sync += n as u64;
+        let idle = self.syncing.as_ref().is_none_or(|h| h.is_finished());
+        if self.since_sync >= SYNC_EVERY && idle {
+            self.join()?;
+            let clone = self.file.try_clone()?;
+            self.syncing = Some(std::thread::spawn(move || clone.sync_data()));
+            self.since_sync = 0;
+        }
+        Ok(n)
+    }
+
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.file.flush()
+    }
+}
+
 /// Writes `path` through `fill`: the content goes to a temporary file in the same directory,
 /// which is flushed, synced and renamed over `path` only when `fill` succeeded. On any error
 /// the temporary file is removed and `path` is left as it was.
 pub fn write_atomically<F>(path: &Path, fill: F) -> Result<(), IoError>
 where
-    F: FnOnce(&mut BufWriter<File>) -> Result<(), IoError>,
+    F: FnOnce(&mut BufWriter<SyncedFile>) -> Result<(), IoError>,
 {
     let os = |source: std::io::Error| IoError::Os {
         path: path.to_path_buf(),
@@ -117,7 +176,7 @@ where
             list.files.push(tmp.clone());
             file
         };
-        let mut writer = BufWriter::with_capacity(1 << 20, file);
+        let mut writer = BufWriter::with_capacity(1 << 20, SyncedFile::new(file));
         fill(&mut writer)?;
         writer.flush().map_err(os)?;
         let file = writer.into_inner().map_err(|e| os(e.into_error()))?;
