@@ -59,8 +59,7 @@ mod test_meshes;
 
 pub use atomic::{
     check_writable, exit_removing_temporary_files, remove_temporary_files, write_atomically,
-    SyncedFile,
-    StagedOutputs,
+    StagedOutputs, SyncedFile,
 };
 pub use msh_write::{write_msh, write_msh_as, write_msh_with, MshFormat, MshVersion};
 pub use vtu_read::{parse_vtu, read_vtu};
