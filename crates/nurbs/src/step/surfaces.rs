@@ -22,6 +22,14 @@ impl<'a> Converter<'a> {
     /// Points on the edges bounding `face` (vertices and samples), to size its surface.
     pub(super) fn face_cover(&self, face: &StepInstance) -> Result<Vec<[f64; 3]>, StepError> {
         let mut cover = Vec::new();
+        // A VERTEX_LOOP bound (a cone's apex) is a point the face reaches.
+        for b in self.params(face, 2)?[1].list().unwrap_or(&[]) {
+            let bound = self.get(b, face)?;
+            let loop_ = self.get(&self.params(bound, 2)?[1], bound)?;
+            if loop_.type_name() == "VERTEX_LOOP" {
+                cover.push(self.vertex(&self.params(loop_, 2)?[1], loop_)?);
+            }
+        }
         for edge in self.face_edges(face)? {
             let c = self.edge_curve(edge, 0)?;
             let (t0, t1) = c.domain();
