@@ -41,6 +41,8 @@ pub enum StepError {
     },
     #[error("STEP entity #{id} (line {line}): reference chain deeper than {limit} (a cycle?)")]
     TooDeep { id: u64, line: usize, limit: usize },
+    #[error("STEP #{id}: placed in the assembly more than {limit} times")]
+    TooManyOccurrences { id: u64, limit: usize },
     #[error("the STEP file has no face (ADVANCED_FACE or FACE_SURFACE) and no edge: nothing to curve onto")]
     Empty,
 }

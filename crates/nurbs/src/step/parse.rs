@@ -119,6 +119,7 @@ pub fn parse_step(bytes: &[u8]) -> Result<StepFile, StepError> {
         bytes,
         pos: 0,
         line: 1,
+        depth: 0,
     };
     p.skip_space()?;
     p.keyword("ISO-10303-21")?;
@@ -159,7 +160,12 @@ struct Parser<'a> {
     bytes: &'a [u8],
     pos: usize,
     line: usize,
+    /// Lists open around the current value (bounded: no stack overflow on hostile input).
+    depth: usize,
 }
+
+/// Deepest nesting of parameter lists read (STEP geometry nests two or three deep).
+const MAX_NESTING: usize = 64;
 
 impl Parser<'_> {
     fn error(&self, message: &str) -> StepError {
@@ -329,6 +335,18 @@ impl Parser<'_> {
 
     /// `(v, v, …)`.
     fn params(&mut self) -> Result<Vec<StepValue>, StepError> {
+        if self.depth >= MAX_NESTING {
+            return Err(self.error(&format!(
+                "parameter lists nested more than {MAX_NESTING} deep"
+            )));
+        }
+        self.depth += 1;
+        let values = self.list();
+        self.depth -= 1;
+        values
+    }
+
+    fn list(&mut self) -> Result<Vec<StepValue>, StepError> {
         self.expect(b'(')?;
         let mut values = Vec::new();
         self.skip_space()?;

@@ -134,11 +134,10 @@ impl Converter<'_> {
                 }
             }
             if maps.len() > MAX_OCCURRENCES {
-                let i = &self.file.instances[&id];
-                return Err(self.unsupported(
-                    i,
-                    format!(" ({} occurrences, more than {MAX_OCCURRENCES})", maps.len()),
-                ));
+                return Err(StepError::TooManyOccurrences {
+                    id,
+                    limit: MAX_OCCURRENCES,
+                });
             }
             out.by_item.insert(id, maps);
         }
@@ -233,10 +232,9 @@ impl Converter<'_> {
             return Ok(vec![IDENTITY]);
         };
         if depth > MAX_DEPTH {
-            let i = &self.file.instances[&class];
             return Err(StepError::TooDeep {
-                id: i.id,
-                line: i.line,
+                id: class,
+                line: self.file.instances.get(&class).map_or(0, |i| i.line),
                 limit: MAX_DEPTH,
             });
         }
@@ -245,10 +243,10 @@ impl Converter<'_> {
             for w in self.class_maps(parent, parents, memo, depth + 1)? {
                 maps.push(compose(&w, &t));
                 if maps.len() > MAX_OCCURRENCES {
-                    let i = &self.file.instances[&class];
-                    return Err(
-                        self.unsupported(i, format!(" (placed more than {MAX_OCCURRENCES} times)"))
-                    );
+                    return Err(StepError::TooManyOccurrences {
+                        id: class,
+                        limit: MAX_OCCURRENCES,
+                    });
                 }
             }
         }

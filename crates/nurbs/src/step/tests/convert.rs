@@ -182,6 +182,11 @@ fn bad_models_are_refused_with_the_instance_and_line() {
             "a mapped item",
         ),
         (
+            // Two representations each placed in the other: a cycle, not a stack overflow.
+            "#1 = ADVANCED_FACE('',(),#2,.T.);\n#2 = PLANE('',#3);\n#3 = AXIS2_PLACEMENT_3D('',#4,$,$);\n#4 = CARTESIAN_POINT('',(0.,0.,0.));\n#10 = SHAPE_REPRESENTATION('',(#1),$);\n#11 = SHAPE_REPRESENTATION('',(#3),$);\n#20 = ( REPRESENTATION_RELATIONSHIP('','',#10,#11) REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#22) SHAPE_REPRESENTATION_RELATIONSHIP() );\n#21 = ( REPRESENTATION_RELATIONSHIP('','',#11,#10) REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#22) SHAPE_REPRESENTATION_RELATIONSHIP() );\n#22 = ITEM_DEFINED_TRANSFORMATION('','',#3,#3);\n",
+            "deeper than 64",
+        ),
+        (
             "#1 = ADVANCED_FACE('',(),#2,.T.);\n#2 = SPHERICAL_SURFACE('',#3,-1.);\n#3 = AXIS2_PLACEMENT_3D('',#4,$,$);\n#4 = CARTESIAN_POINT('',(0.,0.,0.));\n",
             "radius",
         ),

@@ -90,3 +90,14 @@ fn truncated_files_never_panic() {
         let _ = parse_step(&SAMPLE.as_bytes()[..n]);
     }
 }
+
+#[test]
+fn deeply_nested_lists_are_refused_not_a_stack_overflow() {
+    let text = format!(
+        "ISO-10303-21;\nDATA;\n#1 = A({}1{});\nENDSEC;\nEND-ISO-10303-21;\n",
+        "(".repeat(100_000),
+        ")".repeat(100_000)
+    );
+    let err = parse_step(text.as_bytes()).unwrap_err().to_string();
+    assert!(err.contains("nested") && err.contains("line 3"), "{err}");
+}
