@@ -12,7 +12,7 @@ use crate::vec3::{add, distance, dot, norm, scale, sub};
 use crate::NurbsCurve;
 
 impl<'a> Converter<'a> {
-    /// Follows `SURFACE_CURVE`, `SEAM_CURVE` (their 3D curve) and `TRIMMED_CURVE` (its
+    /// Follows `SURFACE_CURVE`, `SEAM_CURVE`, `INTERSECTION_CURVE` (their 3D curve) and `TRIMMED_CURVE` (its
     /// basis) to the curve that carries an edge.
     pub(super) fn basis_curve(
         &self,
@@ -29,7 +29,7 @@ impl<'a> Converter<'a> {
         }
         let i = self.get(v, parent)?;
         match i.type_name().as_str() {
-            "SURFACE_CURVE" | "SEAM_CURVE" | "TRIMMED_CURVE" => {
+            "SURFACE_CURVE" | "SEAM_CURVE" | "INTERSECTION_CURVE" | "TRIMMED_CURVE" => {
                 let p = self.params(i, 2)?;
                 self.basis_curve(&p[1], i, depth + 1)
             }

@@ -4,7 +4,7 @@
 
 use std::f64::consts::TAU;
 
-use super::convert::{Converter, EDGE_SAMPLES, EXTENT_MARGIN, SAME};
+use super::convert::{Converter, EDGE_SAMPLES, EXTENT_MARGIN, MAX_DEPTH, SAME};
 use super::curves::integer;
 use super::error::StepError;
 use super::parse::{StepInstance, StepRecord, StepValue};
@@ -72,9 +72,22 @@ impl<'a> Converter<'a> {
     }
 
     /// The surface instance under a face.
+    /// Through `RECTANGULAR_TRIMMED_SURFACE`s to their basis surface (the face's own bounds
+    /// trim it anyway).
     pub(super) fn face_geometry(&self, face: &StepInstance) -> Result<&'a StepInstance, StepError> {
         let p = self.params(face, 3)?;
-        self.get(&p[2], face)
+        let mut s = self.get(&p[2], face)?;
+        for _ in 0..MAX_DEPTH {
+            if s.type_name() != "RECTANGULAR_TRIMMED_SURFACE" {
+                return Ok(s);
+            }
+            s = self.get(&self.params(s, 2)?[1], s)?;
+        }
+        Err(StepError::TooDeep {
+            id: s.id,
+            line: s.line,
+            limit: MAX_DEPTH,
+        })
     }
 
     /// Whether every face lies on a plane and all those planes are one.

@@ -285,3 +285,25 @@ ENDSEC;\nEND-ISO-10303-21;",
         .count();
     assert_eq!(planes, 6 + 2 + 2 * 2);
 }
+
+/// A face on a `RECTANGULAR_TRIMMED_SURFACE` lies on its basis surface (here the sphere,
+/// still recognised as one).
+#[test]
+fn rectangular_trimmed_surfaces_are_their_basis() {
+    let text = std::fs::read_to_string(fixture("sphere_occ.step")).unwrap();
+    let old = "#347 = ADVANCED_FACE('',(#348),#352,.T.);";
+    assert!(text.contains(old));
+    let trimmed = text.replace(old, "#347 = ADVANCED_FACE('',(#348),#900001,.T.);").replace(
+        "ENDSEC;\nEND-ISO-10303-21;",
+        "#900001 = RECTANGULAR_TRIMMED_SURFACE('',#352,0.,6.283185307,-1.570796327,1.570796327,.T.,.T.);\nENDSEC;\nEND-ISO-10303-21;",
+    );
+    let model = geometry_from_step(&parse_step(trimmed.as_bytes()).unwrap()).unwrap();
+    let spheres = model
+        .entities
+        .iter()
+        .filter(
+            |e| matches!(e.analytic, Some(AnalyticShape::Sphere { radius, .. }) if radius == 1.0),
+        )
+        .count();
+    assert_eq!(spheres, 1);
+}
