@@ -196,16 +196,21 @@ fn verify_steps(
             )
         })?;
         step(log, "cargo clippy", || {
+            // In a target folder of its own: clippy sets RUSTC_WORKSPACE_WRAPPER, which the
+            // build scripts of thiserror and serde watch; in the shared folder they would rerun
+            // and the test build after it would recompile every crate that uses them.
             run(
                 "cargo clippy",
-                cargo().args([
-                    "clippy",
-                    "--workspace",
-                    "--all-targets",
-                    "--",
-                    "-D",
-                    "warnings",
-                ]),
+                cargo()
+                    .env("CARGO_TARGET_DIR", target_dir().join("clippy"))
+                    .args([
+                        "clippy",
+                        "--workspace",
+                        "--all-targets",
+                        "--",
+                        "-D",
+                        "warnings",
+                    ]),
             )
         })?;
     }
