@@ -314,8 +314,16 @@ fn step_matches_iges(hocurve: &Path, out: &Path, full: bool) -> Result<Vec<Strin
 /// Curves and checks every case at p = 2..5 (see the module doc).
 pub fn cad_families(python: &Path, full: bool) -> Result<()> {
     run(
-        "cargo build --profile test -p hocurve-cli",
-        cargo().args(["build", "--profile", "test", "-p", "hocurve-cli"]),
+        "cargo build --profile test --workspace --bin hocurve",
+        // The workspace's features: the test build's, whose crates it reuses.
+        cargo().args([
+            "build",
+            "--profile",
+            "test",
+            "--workspace",
+            "--bin",
+            "hocurve",
+        ]),
     )?;
     let hocurve = target_dir().join("debug").join("hocurve");
     let out = root().join("target").join("cad");

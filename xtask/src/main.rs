@@ -238,11 +238,11 @@ fn verify_steps(
         "sphere p = 2..5 end to end (ignored in cargo test)",
         || {
             run(
-                "cargo test -p hocurve --test curving -- --ignored",
+                "cargo test --test curving -- --ignored",
+                // --workspace: the features of the test build, whose crates it reuses.
                 cargo().args([
                     "test",
-                    "-p",
-                    "hocurve",
+                    "--workspace",
                     "--test",
                     "curving",
                     "--",
@@ -355,8 +355,7 @@ fn interop(args: &[String]) -> Result<()> {
         "write the interop sample meshes",
         cargo().env("HOCURVE_INTEROP_DIR", &samples).args([
             "test",
-            "-p",
-            "hocurve-io",
+            "--workspace",
             "--test",
             "interop",
         ]),
@@ -364,7 +363,14 @@ fn interop(args: &[String]) -> Result<()> {
 
     run(
         "build hocurve",
-        cargo().args(["build", "--profile", "test", "-p", "hocurve-cli"]),
+        cargo().args([
+            "build",
+            "--profile",
+            "test",
+            "--workspace",
+            "--bin",
+            "hocurve",
+        ]),
     )?;
     let hocurve = target_dir().join("debug").join("hocurve");
     let fixtures = [

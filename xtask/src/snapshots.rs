@@ -13,7 +13,8 @@ const THREADS: [&str; 2] = ["1", "2"];
 
 fn snapshot_test() -> Command {
     let mut cmd = cargo();
-    cmd.args(["test", "-p", "hocurve", "--test", "snapshots"]);
+    // --workspace: the features of the test build, whose crates it reuses.
+    cmd.args(["test", "--workspace", "--test", "snapshots"]);
     cmd.env_remove("HOCURVE_SNAPSHOT_QUICK");
     cmd
 }
