@@ -196,9 +196,8 @@ fn verify_steps(
             )
         })?;
         step(log, "cargo clippy", || {
-            // In a target folder of its own: clippy sets RUSTC_WORKSPACE_WRAPPER, which the
-            // build scripts of thiserror and serde watch; in the shared folder they would rerun
-            // and the test build after it would recompile every crate that uses them.
+            // In a target folder of its own: clippy sets RUSTC_WORKSPACE_WRAPPER, which build
+            // scripts may watch; it must not invalidate the build the tests and xtask share.
             run(
                 "cargo clippy",
                 cargo()
