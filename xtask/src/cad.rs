@@ -30,7 +30,7 @@ use std::process::Command;
 
 use anyhow::{bail, Context, Result};
 
-use crate::{cargo, root, run, target_dir};
+use crate::root;
 
 /// One fixture: mesh and geometry under `fixtures/cad/`, and the curved physical group.
 struct Case {
@@ -313,19 +313,7 @@ fn step_matches_iges(hocurve: &Path, out: &Path, full: bool) -> Result<Vec<Strin
 
 /// Curves and checks every case at p = 2..5 (see the module doc).
 pub fn cad_families(python: &Path, full: bool) -> Result<()> {
-    run(
-        "cargo build --profile test --workspace --bin hocurve",
-        // The workspace's features: the test build's, whose crates it reuses.
-        cargo().args([
-            "build",
-            "--profile",
-            "test",
-            "--workspace",
-            "--bin",
-            "hocurve",
-        ]),
-    )?;
-    let hocurve = target_dir().join("debug").join("hocurve");
+    let hocurve = crate::build_hocurve()?;
     let out = root().join("target").join("cad");
     std::fs::create_dir_all(&out)?;
     let script = root().join("xtask").join("scripts").join("check_cad.py");

@@ -360,18 +360,7 @@ fn interop(args: &[String]) -> Result<()> {
         ]),
     )?;
 
-    run(
-        "build hocurve",
-        cargo().args([
-            "build",
-            "--profile",
-            "test",
-            "--workspace",
-            "--bin",
-            "hocurve",
-        ]),
-    )?;
-    let hocurve = target_dir().join("debug").join("hocurve");
+    let hocurve = build_hocurve()?;
     let fixtures = [
         ("fixtures/formats/cube_v41_ascii.msh", 6),
         ("fixtures/formats/square_v41_ascii.msh", 6),
@@ -532,6 +521,23 @@ fn solver_readers(python: &Path, hocurve: &Path, out: &Path) -> Result<()> {
         )?;
     }
     Ok(())
+}
+
+/// Builds the `hocurve` binary the checks run (test profile, the workspace's features: the
+/// test build's crates are reused) and returns its path.
+fn build_hocurve() -> Result<PathBuf> {
+    run(
+        "build hocurve",
+        cargo().args([
+            "build",
+            "--profile",
+            "test",
+            "--workspace",
+            "--bin",
+            "hocurve",
+        ]),
+    )?;
+    Ok(target_dir().join("debug").join("hocurve"))
 }
 
 /// Total volume (3D) or area (2D) of the straight-sided mesh in `path`: Σ_cells Σ_q w_q |det J|
