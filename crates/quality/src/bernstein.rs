@@ -34,8 +34,9 @@ pub const MAX_DENSE_COEFFICIENTS: usize = 2024;
 #[derive(Debug, Clone)]
 pub struct BernsteinSpace {
     lattice: Lattice,
-    /// Conversion factors: (storage axis, row-major m×m inverse of the factor's M).
-    factors: Vec<(usize, Vec<f64>)>,
+    /// Conversion factors: (storage axis, row-major m×m inverse of the factor's M); None for
+    /// a space built without its conversion ([`BernsteinSpace::lattice_only`]).
+    factors: Option<Vec<(usize, Vec<f64>)>>,
     /// ‖M⁻¹‖∞ of the whole conversion (product of the factors' norms).
     inverse_norm: f64,
 }
@@ -115,11 +116,33 @@ impl BernsteinSpace {
             .product();
         Ok(BernsteinSpace {
             lattice,
-            factors,
+            factors: Some(factors),
             inverse_norm,
         })
     }
 
+    /// The space of det J of order-`order` elements of `shape` without the conversion from
+    /// sampled values: for triangles and tetrahedra, whose coefficients come exactly from the
+    /// map's control points ([`crate::bezier_simplex`]) and whose regions are split by exact
+    /// bisection, so the dense inverse (C(3(p − 1) + 3, 3)² numbers: 33 MB and seconds of
+    /// factorisation at p = 8, 132 MB at p = 10) is never needed. Its
+    /// [`BernsteinSpace::conversion_norm`] is infinite and it does not convert values.
+    pub(crate) fn lattice_only(shape: Shape, order: usize) -> Result<Self, QualityError> {
+        let (degree, degree_z) = jacobian_degree(shape, order);
+        if degree.max(degree_z) > MAX_LINE_DEGREE {
+            return Err(QualityError::UnsupportedBezierDegree {
+                shape,
+                order,
+                degree: degree.max(degree_z),
+                max: MAX_LINE_DEGREE,
+            });
+        }
+        Ok(BernsteinSpace {
+            lattice: Lattice::new(shape, degree, degree_z),
+            factors: None,
+            inverse_norm: f64::INFINITY,
+        })
+    }
     /// The exponents of every basis polynomial, in coefficient order (the barycentric
     /// groups of [`Lattice::coordinates`], zero-padded).
     pub(crate) fn exponents(&self) -> &[[u8; 6]] {
@@ -160,15 +183,29 @@ impl BernsteinSpace {
         &self.lattice.points
     }
 
-    /// ‖M⁻¹‖∞: how much the conversion can amplify errors in the sampled values.
+    /// ‖M⁻¹‖∞: how much the conversion can amplify errors in the sampled values (infinite
+    /// for a space without conversion).
     pub fn conversion_norm(&self) -> f64 {
         self.inverse_norm
     }
 
+    /// Whether [`BernsteinSpace::values_to_coefficients`] is available: true for every
+    /// space built by [`BernsteinSpace::new`] and [`BernsteinSpace::for_jacobian`]; false for
+    /// the simplex spaces of [`crate::JacobianBezier`], which never sample.
+    pub fn converts_values(&self) -> bool {
+        self.factors.is_some()
+    }
+
     /// Replaces the values f(ξ_α) at the lattice points in `values` by the Bernstein
-    /// coefficients of the interpolating polynomial (`tmp` is scratch memory).
+    /// coefficients of the interpolating polynomial (`tmp` is scratch memory). Values are
+    /// set to NaN when the space has no conversion ([`BernsteinSpace::converts_values`]),
+    /// so that nothing is certified from them.
     pub fn values_to_coefficients(&self, values: &mut [f64], tmp: &mut Vec<f64>) {
-        for (axis, matrix) in &self.factors {
+        let Some(factors) = &self.factors else {
+            values.fill(f64::NAN);
+            return;
+        };
+        for (axis, matrix) in factors {
             apply_along_axis(matrix, self.lattice.dims, *axis, values, tmp);
         }
     }
@@ -291,15 +328,16 @@ pub fn jacobian_degree(shape: Shape, order: usize) -> (usize, usize) {
     (d, d)
 }
 
-/// Whether the Bézier validity check supports order-`order` elements of `shape` (det J's
-/// Bernstein space within [`MAX_LINE_DEGREE`] per variable and [`MAX_DENSE_COEFFICIENTS`]
-/// per simplex factor): tetrahedra up to p = 8, hexahedra up to p = 13, for example.
+/// Whether the Bézier validity check supports order-`order` elements of `shape`: det J's
+/// degree per variable within [`MAX_LINE_DEGREE`] (triangles and tetrahedra, whose
+/// coefficients are computed exactly without a conversion matrix: tetrahedra up to p = 14,
+/// hexahedra up to p = 13), and for prisms, which convert sampled values, their triangle
+/// factor within [`MAX_DENSE_COEFFICIENTS`].
 pub fn bezier_check_supported(shape: Shape, order: usize) -> bool {
     let (degree, degree_z) = jacobian_degree(shape, order);
     match shape {
-        Shape::Tri | Shape::Tet => degree <= max_dense_degree(shape),
         Shape::Prism => degree <= max_dense_degree(Shape::Tri) && degree_z <= MAX_LINE_DEGREE,
-        Shape::Line | Shape::Quad | Shape::Hex => degree <= MAX_LINE_DEGREE,
+        _ => degree <= MAX_LINE_DEGREE,
     }
 }
 

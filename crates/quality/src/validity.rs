@@ -249,7 +249,9 @@ pub struct JacobianBezier {
     simplex: Option<SimplexJacobian>,
     /// Exact bisection of triangle and tetrahedron coefficients, for narrowing bounds.
     bisection: Option<SimplexBisection>,
-    root: JacobianSampler,
+    /// det J sampled at the lattice points of the whole element (None for triangles and
+    /// tetrahedra, which never sample).
+    root: Option<JacobianSampler>,
     /// The shared reference element, whose basis samples sub-elements.
     element: Arc<ReferenceElement>,
     children: Vec<Affine>,
@@ -273,12 +275,35 @@ pub struct BezierWorkspace {
 impl JacobianBezier {
     /// Precomputes everything for order-`order` elements of `shape` with `family` nodes.
     pub fn new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, QualityError> {
-        let space = BernsteinSpace::for_jacobian(shape, order)?;
-        let root = JacobianSampler::at_points(shape, order, family, space.points())?;
+        let simplex_shape = matches!(shape, Shape::Tri | Shape::Tet);
+        let space = if simplex_shape {
+            BernsteinSpace::lattice_only(shape, order)?
+        } else {
+            BernsteinSpace::for_jacobian(shape, order)?
+        };
+        let simplex = SimplexJacobian::new(shape, order, family, &space)?;
+        let root = match simplex {
+            Some(_) => None,
+            None if simplex_shape => {
+                // Only p = 0 (no map) ends here: there is nothing to certify with.
+                return Err(QualityError::UnsupportedBezierDegree {
+                    shape,
+                    order,
+                    degree: 0,
+                    max: 0,
+                });
+            }
+            None => Some(JacobianSampler::at_points(
+                shape,
+                order,
+                family,
+                space.points(),
+            )?),
+        };
         let element = ReferenceElement::shared(shape, order, family)?;
         Ok(JacobianBezier {
             tensor: TensorJacobian::new(shape, order, family)?,
-            simplex: SimplexJacobian::new(shape, order, family, &space)?,
+            simplex,
             subdivision: space.subdivision(),
             bisection: SimplexBisection::new(&space),
             space,
@@ -296,11 +321,17 @@ impl JacobianBezier {
     /// The Bernstein coefficients of det J on the whole element with node coordinates
     /// `coords` (canonical local order); evaluate with [`BernsteinSpace::eval`].
     pub fn coefficients(&self, coords: &[[f64; 3]]) -> Vec<f64> {
+        if let Some(simplex) = &self.simplex {
+            return simplex.coefficients(coords).0;
+        }
         if let Some(tensor) = &self.tensor {
             return tensor.coefficients(coords).0;
         }
+        let Some(root) = &self.root else {
+            return vec![f64::NAN; self.space.len()];
+        };
         let mut workspace = JacobianWorkspace::default();
-        let mut c = self.root.determinants_with(coords, &mut workspace).to_vec();
+        let mut c = root.determinants_with(coords, &mut workspace).to_vec();
         self.space.values_to_coefficients(&mut c, &mut Vec::new());
         c
     }
@@ -348,16 +379,18 @@ impl JacobianBezier {
             ..
         } = ws;
         if let Some(simplex) = &self.simplex {
-            // Certified by the exact coefficients of the whole element: done. Otherwise
-            // the sampled check below decides (and refines).
-            let (c, margin) = simplex.coefficients(coords);
-            let (cmin, cmax) = min_max(&c);
-            if cmin > margin && cmax.is_finite() {
-                let corners: Vec<f64> = simplex.vertices().iter().map(|&v| c[v]).collect();
-                return self.verdict((false, false), (cmin, cmax), min_max(&corners), margin, 1);
-            }
+            return self.check_simplex(simplex, coords, options, coefficient_stack, spare, tmp);
         }
-        let root = self.root.determinants_with(coords, jacobian);
+        let Some(root) = &self.root else {
+            return self.verdict(
+                (false, true),
+                (f64::NAN, f64::NAN),
+                (f64::NAN, f64::NAN),
+                0.0,
+                0,
+            );
+        };
+        let root = root.determinants_with(coords, jacobian);
         let (sample_min, sample_max) = min_max(root);
         let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         let value_margin = (32.0 + coords.len() as f64) * f64::EPSILON * scale;
@@ -475,6 +508,121 @@ impl JacobianBezier {
             (lower, upper),
             (sampled_min, sampled_max),
             coefficient_margin,
+            regions,
+        )
+    }
+
+    /// The check of a triangle or tetrahedron: det J's exact coefficients on the element
+    /// ([`crate::bezier_simplex`]), then, while neither certified nor inverted, exact
+    /// bisections of the regions' longest edges (de Casteljau, no re-sampling), up to
+    /// `dim × max_depth` bisections deep — as fine as `max_depth` midpoint refinements.
+    /// Vertex coefficients are det J's values at the regions' vertices: one below −margin
+    /// shows an inversion.
+    fn check_simplex(
+        &self,
+        simplex: &SimplexJacobian,
+        coords: &[[f64; 3]],
+        options: &BezierOptions,
+        stack: &mut Vec<(Vec<f64>, usize, f64)>,
+        spare: &mut Vec<Vec<f64>>,
+        line: &mut Vec<f64>,
+    ) -> ValidityCheck {
+        let (root, margin) = simplex.coefficients(coords);
+        let vertices = simplex.vertices();
+        let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        if !(scale.is_finite() && margin.is_finite()) || scale == 0.0 {
+            // Non-finite coordinates or a collapsed element: nothing can be certified.
+            let corner_min = vertices
+                .iter()
+                .map(|&v| root[v])
+                .fold(f64::INFINITY, f64::min);
+            return ValidityCheck {
+                validity: if corner_min < -margin {
+                    Validity::Invalid
+                } else {
+                    Validity::Undecided
+                },
+                min_jacobian_lower_bound: f64::NAN,
+                max_jacobian_upper_bound: f64::NAN,
+                scaled_jacobian_lower_bound: -1.0,
+                scaled_jacobian_upper_bound: f64::NAN,
+                regions: 1,
+            };
+        }
+        let Some(bisection) = &self.bisection else {
+            return self.verdict(
+                (false, true),
+                (f64::NAN, f64::NAN),
+                (f64::NAN, f64::NAN),
+                0.0,
+                1,
+            );
+        };
+        let corners = bisection.corners();
+        let max_splits = options.max_depth * (corners - 1);
+        let (mut lower, mut upper) = (f64::INFINITY, f64::NEG_INFINITY);
+        let mut sampled = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut negative, mut undecided) = (false, false);
+        let mut regions = 0;
+        let mut reference = [[0.0; 3]; 4];
+        for (c, v) in reference
+            .iter_mut()
+            .zip(self.space.shape().vertices().iter())
+        {
+            *c = *v;
+        }
+        // Regions carry their reference corners (to split the longest edge) through a
+        // parallel stack of corner sets.
+        let mut shapes: Vec<[[f64; 3]; 4]> = vec![reference];
+        stack.clear();
+        stack.push((root, 0, 0.0));
+        while let (Some((c, depth, error)), Some(region_corners)) = (stack.pop(), shapes.pop()) {
+            regions += 1;
+            let (cmin, cmax) = min_max(&c);
+            for &v in vertices {
+                sampled.0 = sampled.0.min(c[v]);
+                sampled.1 = sampled.1.max(c[v]);
+            }
+            let found_negative = vertices.iter().any(|&v| c[v] < -(margin + error));
+            negative |= found_negative;
+            let certified = cmin > margin + error;
+            if certified || negative || depth >= max_splits {
+                undecided |= !certified && !found_negative;
+                lower = lower.min(cmin - error);
+                upper = upper.max(cmax + error);
+                spare.push(c);
+                continue;
+            }
+            let region = Region {
+                c,
+                min: cmin,
+                max: cmax,
+                error,
+                corners: region_corners,
+            };
+            let (i, j) = region.longest_edge(corners);
+            let scale = region.c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            let child_error = error + bisection.degree() as f64 * f64::EPSILON * scale;
+            let (mut a, mut b) = (
+                spare.pop().unwrap_or_default(),
+                spare.pop().unwrap_or_default(),
+            );
+            bisection.bisect(&region.c, (i, j), &mut a, &mut b, line);
+            let m = mid(region.corners[i], region.corners[j]);
+            let (mut ca, mut cb) = (region.corners, region.corners);
+            ca[j] = m;
+            cb[i] = m;
+            stack.push((a, depth + 1, child_error));
+            shapes.push(ca);
+            stack.push((b, depth + 1, child_error));
+            shapes.push(cb);
+            spare.push(region.c);
+        }
+        self.verdict(
+            (negative, undecided),
+            (lower, upper),
+            sampled,
+            margin,
             regions,
         )
     }
@@ -601,7 +749,10 @@ impl JacobianBezier {
         if let Some(tensor) = &self.tensor {
             return Some(tensor.coefficients(coords));
         }
-        let root = self.root.determinants_with(coords, &mut ws.jacobian);
+        let root = self
+            .root
+            .as_ref()?
+            .determinants_with(coords, &mut ws.jacobian);
         let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
         if !scale.is_finite() || scale == 0.0 {
             return None;

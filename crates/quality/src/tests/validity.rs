@@ -381,3 +381,51 @@ fn the_mesh_bound_is_narrowed_to_the_tightness_asked_for() {
         );
     }
 }
+
+/// Triangles and tetrahedra are decided from det J's exact coefficients and their exact
+/// bisections at every order to p = 10 (degree 27 on the tetrahedron, past the sampled
+/// conversion's limit): a curved valid element in one region with bounds around the truth,
+/// a fold between every sample point found, a det J touching zero left undecided.
+#[test]
+fn simplices_are_decided_at_every_order_to_ten() {
+    let eps = 0.4;
+    let exact = 1.0 / (1.0 + 2.0 * eps);
+    for kind in [Shape::Tri, Shape::Tet] {
+        for p in [3, 6, 8, 10] {
+            let mesh = single_element(kind, p, |x| [x[0] + eps * x[0] * x[0], x[1], x[2]]);
+            let check = check_one(&mesh, 4);
+            assert_eq!(check.validity, Validity::Valid, "{kind} p={p}");
+            assert_eq!(check.regions, 1, "{kind} p={p}");
+            let (lo, hi) = (
+                check.scaled_jacobian_lower_bound,
+                check.scaled_jacobian_upper_bound,
+            );
+            assert!(
+                lo <= exact && exact <= hi + 1e-12,
+                "{kind} p={p}: {lo} {hi}"
+            );
+            assert!(exact - lo < 1e-6, "{kind} p={p}: {lo}");
+
+            let fold = single_element(kind, p, strip_fold);
+            let sampled = scaled_jacobian(&fold, Sampling::Quadrature).unwrap()[0];
+            let check = check_one(&fold, 4);
+            assert_eq!(
+                check.validity,
+                Validity::Invalid,
+                "{kind} p={p} (sampled {sampled})"
+            );
+            assert!(
+                check.scaled_jacobian_upper_bound < 0.0,
+                "{kind} p={p}: {check:?}"
+            );
+
+            let touching =
+                single_element(kind, p, |x| [4.0 / 3.0 * (x[0] - 0.5).powi(3), x[1], x[2]]);
+            let check = check_one(&touching, 2);
+            assert_eq!(check.validity, Validity::Undecided, "{kind} p={p}");
+            assert!(check.min_jacobian_lower_bound <= 0.0);
+            // Bisections only, as deep as two midpoint refinements.
+            assert!(check.regions > 1 && check.regions < 1 << (2 * kind.dim() + 1));
+        }
+    }
+}
