@@ -25,12 +25,15 @@ const MAX_BLOCK: usize = 96;
 /// Dofs per parallel task when applying B.
 const DOFS_PER_TASK: usize = 4096;
 
-/// The dense inverses of the diagonal blocks of a matrix.
+/// The dense inverses of the diagonal blocks of a matrix, each stored as its lower triangle
+/// (symmetric: half the memory, which at p = 10 is most of the solver's — 1 GB of full
+/// blocks over the levels of a 1 236-tetrahedron mesh).
 #[derive(Debug, Clone)]
 pub(crate) struct BlockJacobi {
     /// First dof of each block (`len = blocks + 1`); the blocks cover 0..n in order.
     starts: Vec<usize>,
-    /// Start of each block's k × k row-major inverse in `inverses` (`len = blocks + 1`).
+    /// Start of each block's packed inverse in `inverses` (`len = blocks + 1`): row i of a
+    /// k × k block holds columns 0..=i at [`packed_index`]`(i, 0)`.
     offsets: Vec<usize>,
     inverses: Vec<f64>,
     /// Blocks of each parallel task: task t applies blocks `tasks[t]..tasks[t + 1]`.
@@ -124,14 +127,22 @@ pub(crate) fn invert_spd(m: &mut [f64], k: usize, out: &mut [f64]) {
     }
 }
 
-/// Where each k × k block over the ranges `cuts` starts in a packed array (`len = blocks + 1`).
+/// Where each k × k block over the ranges `cuts` starts in an array of packed lower
+/// triangles (k(k + 1)/2 numbers each; `len = blocks + 1`).
 pub(crate) fn block_offsets(cuts: &[usize]) -> Vec<usize> {
     let mut offsets = Vec::with_capacity(cuts.len());
     offsets.push(0);
     for w in cuts.windows(2) {
-        offsets.push(offsets[offsets.len() - 1] + (w[1] - w[0]) * (w[1] - w[0]));
+        let k = w[1] - w[0];
+        offsets.push(offsets[offsets.len() - 1] + k * (k + 1) / 2);
     }
     offsets
+}
+
+/// Position of entry (i, j), j ≤ i, of a packed lower triangle (row-major).
+#[inline]
+pub(crate) fn packed_index(i: usize, j: usize) -> usize {
+    i * (i + 1) / 2 + j
 }
 
 impl BlockJacobi {
@@ -149,17 +160,17 @@ impl BlockJacobi {
             .enumerate()
             .with_min_len(64)
             .for_each(|(b, block)| {
-                let (start, end) = (cuts[b], cuts[b + 1]);
-                let k = end - start;
+                let start = cuts[b];
+                let k = cuts[b + 1] - start;
                 for i in 0..k {
                     let row = start + i;
                     let cols = &idx[ptr[row]..ptr[row + 1]];
                     let from = cols.partition_point(|&c| (c as usize) < start);
                     for (&c, &v) in cols[from..].iter().zip(&val[ptr[row] + from..]) {
-                        if c as usize >= end {
+                        if c as usize > row {
                             break;
                         }
-                        block[i * k + c as usize - start] = v;
+                        block[packed_index(i, c as usize - start)] = v;
                     }
                 }
             });
@@ -167,8 +178,8 @@ impl BlockJacobi {
     }
 
     /// From the diagonal blocks themselves: block b (rows and columns `cuts[b]..cuts[b + 1]`,
-    /// k × k row-major) at `dense[offsets[b]..offsets[b + 1]]`, with `offsets` those of
-    /// [`block_offsets`]; inverted in place.
+    /// its lower triangle packed as [`packed_index`] says) at `dense[offsets[b]..offsets[b + 1]]`,
+    /// with `offsets` those of [`block_offsets`]; inverted in place.
     pub fn from_blocks(cuts: &[usize], offsets: Vec<usize>, mut dense: Vec<f64>) -> Self {
         let blocks = cuts.len().saturating_sub(1);
         let parts = split_into(&mut dense, (0..blocks).map(|b| offsets[b + 1] - offsets[b]));
@@ -176,13 +187,29 @@ impl BlockJacobi {
             .into_par_iter()
             .enumerate()
             .with_min_len(64)
-            .for_each_init(Vec::new, |inverse, (b, block)| {
-                let k = cuts[b + 1] - cuts[b];
-                inverse.clear();
-                inverse.resize(k * k, 0.0);
-                invert_spd(block, k, inverse);
-                block.copy_from_slice(inverse);
-            });
+            .for_each_init(
+                || (Vec::new(), Vec::new()),
+                |(full, inverse), (b, block)| {
+                    let k = cuts[b + 1] - cuts[b];
+                    full.clear();
+                    full.resize(k * k, 0.0);
+                    for i in 0..k {
+                        for j in 0..=i {
+                            let v = block[packed_index(i, j)];
+                            full[i * k + j] = v;
+                            full[j * k + i] = v;
+                        }
+                    }
+                    inverse.clear();
+                    inverse.resize(k * k, 0.0);
+                    invert_spd(full, k, inverse);
+                    for i in 0..k {
+                        for j in 0..=i {
+                            block[packed_index(i, j)] = inverse[i * k + j];
+                        }
+                    }
+                },
+            );
         let mut tasks = vec![0];
         for b in 0..blocks {
             if cuts[b + 1] - cuts[tasks[tasks.len() - 1]] >= DOFS_PER_TASK {
@@ -221,12 +248,19 @@ impl BlockJacobi {
                 let k = end - start;
                 let inverse = &self.inverses[self.offsets[b]..self.offsets[b + 1]];
                 let rb = &r[start..end];
-                for (i, zi) in z[start - offset..end - offset].iter_mut().enumerate() {
-                    *zi = inverse[i * k..(i + 1) * k]
-                        .iter()
-                        .zip(rb)
-                        .map(|(m, v)| m * v)
-                        .sum();
+                let zb = &mut z[start - offset..end - offset];
+                zb.fill(0.0);
+                // Row i of the lower triangle gives z_i its columns j ≤ i and, by symmetry,
+                // each z_j (j < i) its column i.
+                for i in 0..k {
+                    let row = &inverse[packed_index(i, 0)..packed_index(i, 0) + i + 1];
+                    let ri = rb[i];
+                    let mut zi = 0.0;
+                    for j in 0..i {
+                        zi += row[j] * rb[j];
+                        zb[j] += row[j] * ri;
+                    }
+                    zb[i] += zi + row[i] * ri;
                 }
             }
             return;

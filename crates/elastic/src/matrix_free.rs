@@ -24,7 +24,7 @@ use faer::{Mat, Side};
 use hocurve_mesh::{HighOrderMesh, Shape};
 use rayon::prelude::*;
 
-use crate::block_jacobi::{block_offsets, BlockJacobi};
+use crate::block_jacobi::{block_offsets, packed_index, BlockJacobi};
 use crate::cell_runs::{add_to, prefetch, CellRuns, ReducedNodes, SharedSum};
 use crate::condensation::Constraints;
 use crate::element_matrix::invert_jacobian;
@@ -648,7 +648,6 @@ impl MatrixFreeStiffness {
                             continue;
                         }
                         let start = cuts[block as usize];
-                        let k = cuts[block as usize + 1] - start;
                         for (bb, &nb) in nodes.iter().enumerate() {
                             let nb = nb as usize;
                             if block_of[nb] != block {
@@ -670,13 +669,17 @@ impl MatrixFreeStiffness {
                             let (ra, rb) = (first[na] - start, first[nb] - start);
                             for (i, qi) in rows.iter().enumerate() {
                                 for (j, qj) in cols.iter().enumerate() {
+                                    // The lower triangle only (packed).
+                                    if rb + j > ra + i {
+                                        continue;
+                                    }
                                     let mut v = 0.0;
                                     for cc in 0..dim {
                                         for d in 0..dim {
                                             v += qi[cc] * kab[cc][d] * qj[d];
                                         }
                                     }
-                                    add(offsets[block as usize] + (ra + i) * k + rb + j, v);
+                                    add(offsets[block as usize] + packed_index(ra + i, rb + j), v);
                                 }
                             }
                         }
