@@ -25,7 +25,7 @@ use crate::{BernsteinSpace, QualityError};
 /// The multi-indices (α_1, α_2, α_3) of total degree ≤ … of the simplex lattice of
 /// degree `d` in `dim` variables, in the order of [`crate::BernsteinSpace`]: the last
 /// variable outermost, α_0 = d − Σ α_i implied.
-fn simplex_lattice(dim: usize, d: usize) -> Vec<[usize; 3]> {
+pub(crate) fn simplex_lattice(dim: usize, d: usize) -> Vec<[usize; 3]> {
     let mut out = Vec::new();
     let top = if dim == 3 { d } else { 0 };
     for k in 0..=top {
@@ -52,15 +52,15 @@ fn lattice_positions(dim: usize, d: usize) -> Vec<u32> {
 /// The product of degree-a and degree-b polynomials: (index in f, index in g, index of
 /// the product, weight) for every pair.
 #[derive(Debug, Clone)]
-struct ProductTable {
-    terms: Vec<(u32, u32, u32, f64)>,
-    len: usize,
+pub(crate) struct ProductTable {
+    pub(crate) terms: Vec<(u32, u32, u32, f64)>,
+    pub(crate) len: usize,
     /// Largest number of pairs meeting at one output coefficient.
-    most_terms: usize,
+    pub(crate) most_terms: usize,
 }
 
 impl ProductTable {
-    fn new(dim: usize, a: usize, b: usize, binomial: &[Vec<f64>]) -> Self {
+    pub(crate) fn new(dim: usize, a: usize, b: usize, binomial: &[Vec<f64>]) -> Self {
         let (fa, fb) = (simplex_lattice(dim, a), simplex_lattice(dim, b));
         let out = lattice_positions(dim, a + b);
         let side = a + b + 1;

@@ -33,6 +33,7 @@ mod assessment;
 mod bernstein;
 mod bernstein_subdivision;
 mod bezier_map;
+mod bezier_prism;
 mod bezier_simplex;
 mod bound_refinement;
 mod error;

@@ -5,28 +5,33 @@
 //! given by [`crate::jacobian_degree`]. Written in the Bernstein basis of that degree, it lies
 //! between its smallest and largest coefficient, and its vertex coefficients are its values
 //! there. So, per element:
-//! 1. sample det J at the Bernstein lattice points and convert to coefficients
-//!    ([`crate::BernsteinSpace`], precomputed inverse);
+//! 1. compute det J's coefficients exactly from the Bézier control points of the element map
+//!    (derivatives are coefficient differences, products have non-negative weights:
+//!    [`crate::bezier_simplex`], [`crate::bezier_prism`], [`crate::bezier_map`]), with a
+//!    bound on their rounding — no sampling, and no conversion matrix whose norm explodes
+//!    with the degree (so every order to p = 10 and beyond is checked);
 //! 2. if every coefficient is > 0, det J > 0 everywhere: **valid**;
-//! 3. if a sampled value is < 0 (in particular a vertex coefficient), the element is
-//!    certainly **invalid**;
-//! 4. otherwise split the region into 2^d sub-elements (midpoint refinement: 4 triangles,
-//!    8 tetrahedra, 4 / 8 boxes, 8 prisms), re-sample det J on each sub-element's own lattice
-//!    (the polynomial on an affine sub-element has the same degree) and repeat, up to
-//!    `max_depth` levels; what remains is **undecided**.
+//! 3. if a vertex coefficient (det J's value there) is < 0, the element is certainly
+//!    **invalid**;
+//! 4. otherwise split the region — triangles and tetrahedra by exact bisection of the
+//!    longest edge, boxes and prisms into the 2^d children of a midpoint refinement by
+//!    exact subdivision matrices — and repeat, up to `max_depth` levels (d bisections
+//!    count as one level); what remains is **undecided**.
+//!
+//! Node sets that are not a tensor product on boxes (never hocurve's) fall back to sampling
+//! det J at the Bernstein lattice and converting ([`crate::BernsteinSpace`]).
 //!
 //! The coefficients of the final regions also bound the extremes: min det J ≥ min of the
 //! leaves' smallest coefficients and max det J ≤ max of their largest ones, which gives a
 //! certified interval for the true scaled Jacobian min det J / max det J.
 //!
-//! Rounding: values within (32 + n_nodes) ε · max|det J| of zero are not trusted as
-//! negative, and coefficients must exceed that margin times ‖M⁻¹‖∞ (the amplification of
-//! the conversion, [`crate::BernsteinSpace::conversion_norm`]) to count as positive; the
-//! reported bounds are widened by it. Near-zero cases are thus undecided rather than wrong.
-//! The margin relative to max det J is about 3·10⁻¹² for p = 3 tetrahedra, 1·10⁻⁷ for p = 3
-//! hexahedra and 1·10⁻⁴ for p = 4 hexahedra (the tensor conversion's norm is the product
-//! of the three 1D norms), so at high order on hexahedra and prisms elements with
-//! Ĩ below that margin come out undecided.
+//! Rounding: each coefficient carries a forward bound on its rounding (from the conversion of
+//! the nodes to control points, amplified by that conversion's norm, through the
+//! derivatives, products and subdivisions); it must exceed the bound to count as positive,
+//! and the reported bounds are widened by it. Near-zero cases are thus undecided rather
+//! than wrong. The bound relative to max det J on a smoothly curved element grows with the
+//! order: ~1e-10 at p = 4 and ~1e-4 at p = 10 on prisms (see the tests), so at high order
+//! elements with Ĩ below that come out undecided.
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -37,6 +42,7 @@ use rayon::prelude::*;
 use serde::Serialize;
 
 use crate::bezier_map::TensorJacobian;
+use crate::bezier_prism::PrismJacobian;
 use crate::bezier_simplex::SimplexJacobian;
 use crate::bound_refinement::{extremes, Region, SimplexBisection};
 use crate::jacobian::{
@@ -44,6 +50,18 @@ use crate::jacobian::{
     JacobianWorkspace,
 };
 use crate::{BernsteinSpace, BernsteinSubdivision, QualityError};
+
+/// Regions waiting (coefficients, depth, rounding bound), spare coefficient vectors and
+/// scratch of [`JacobianBezier::check_subdivided`].
+type SubdivisionScratch<'a> = (
+    &'a mut Vec<(Vec<f64>, usize, f64)>,
+    &'a mut Vec<Vec<f64>>,
+    &'a mut Vec<f64>,
+);
+
+/// Coefficients per region that [`BezierOptions::max_regions`] counts in whole regions (the
+/// det J of a p = 6 tetrahedron has 816, of a p = 8 prism 6 624).
+const REGION_COEFFICIENTS: usize = 1000;
 
 /// The verdict of the Bézier check on one element.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
@@ -66,7 +84,8 @@ pub struct BezierOptions {
     /// the mesh's bound down ([`JacobianBezier::refine_bounds`]) until each certifies
     /// Ĩ ≥ this fraction of the smallest Ĩ sampled on any element (0: no narrowing).
     pub tightness: f64,
-    /// Regions one element may be split into while narrowing.
+    /// Regions one element may be split into while narrowing (regions of more than 1 000
+    /// coefficients count in proportion to their size).
     pub max_regions: usize,
 }
 
@@ -247,6 +266,8 @@ pub struct JacobianBezier {
     /// Exact det J coefficients of triangles and tetrahedra, tried first: most elements
     /// are certified by them alone, without sampling det J and converting.
     simplex: Option<SimplexJacobian>,
+    /// Exact det J coefficients of prisms (the sampled conversion's norm explodes with p).
+    prism: Option<PrismJacobian>,
     /// Exact bisection of triangle and tetrahedron coefficients, for narrowing bounds.
     bisection: Option<SimplexBisection>,
     /// det J sampled at the lattice points of the whole element (None for triangles and
@@ -276,7 +297,12 @@ impl JacobianBezier {
     /// Precomputes everything for order-`order` elements of `shape` with `family` nodes.
     pub fn new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, QualityError> {
         let simplex_shape = matches!(shape, Shape::Tri | Shape::Tet);
-        let space = if simplex_shape {
+        let prism = PrismJacobian::new(shape, order, family)?;
+        let tensor = TensorJacobian::new(shape, order, family)?;
+        // Exact coefficients everywhere they exist: no lattice sampling (whose set-up alone,
+        // the Lagrange gradients at (3p)³ points, took 12 s for p = 8 hexahedra).
+        let exact = prism.is_some() || tensor.is_some();
+        let space = if simplex_shape || exact {
             BernsteinSpace::lattice_only(shape, order)?
         } else {
             BernsteinSpace::for_jacobian(shape, order)?
@@ -284,6 +310,7 @@ impl JacobianBezier {
         let simplex = SimplexJacobian::new(shape, order, family, &space)?;
         let root = match simplex {
             Some(_) => None,
+            None if exact => None,
             None if simplex_shape => {
                 // Only p = 0 (no map) ends here: there is nothing to certify with.
                 return Err(QualityError::UnsupportedBezierDegree {
@@ -302,8 +329,9 @@ impl JacobianBezier {
         };
         let element = ReferenceElement::shared(shape, order, family)?;
         Ok(JacobianBezier {
-            tensor: TensorJacobian::new(shape, order, family)?,
+            tensor,
             simplex,
+            prism,
             subdivision: space.subdivision(),
             bisection: SimplexBisection::new(&space),
             space,
@@ -323,6 +351,9 @@ impl JacobianBezier {
     pub fn coefficients(&self, coords: &[[f64; 3]]) -> Vec<f64> {
         if let Some(simplex) = &self.simplex {
             return simplex.coefficients(coords).0;
+        }
+        if let Some(prism) = &self.prism {
+            return prism.coefficients(coords).0;
         }
         if let Some(tensor) = &self.tensor {
             return tensor.coefficients(coords).0;
@@ -381,6 +412,22 @@ impl JacobianBezier {
         if let Some(simplex) = &self.simplex {
             return self.check_simplex(simplex, coords, options, coefficient_stack, spare, tmp);
         }
+        let exact = match (&self.prism, &self.tensor) {
+            (Some(prism), _) => Some(prism.coefficients(coords)),
+            (None, Some(tensor)) => Some(tensor.coefficients(coords)),
+            (None, None) => None,
+        };
+        if let (Some(root), Some(sub)) = (exact, &self.subdivision) {
+            // Exact coefficients, no sampling: the values met are the vertex coefficients.
+            return self.check_subdivided(
+                sub,
+                root,
+                0.0,
+                None,
+                options,
+                (coefficient_stack, spare, tmp),
+            );
+        }
         let Some(root) = &self.root else {
             return self.verdict(
                 (false, true),
@@ -418,58 +465,20 @@ impl JacobianBezier {
         let (mut negative, mut undecided) = (false, false);
         let mut regions = 0;
         if let Some(sub) = &self.subdivision {
-            // Regions carry their coefficients and a bound on the rounding the subdivisions
-            // added to them (rows are convex combinations: ≤ m ε max|c| per factor).
-            let growth = (sub.factors() * sub.longest_factor()) as f64 * f64::EPSILON;
-            let (root_coefficients, coefficient_margin) = match &self.tensor {
-                Some(tensor) => tensor.coefficients(coords),
-                None => {
-                    let mut c = spare.pop().unwrap_or_default();
-                    c.clear();
-                    c.extend_from_slice(root);
-                    self.space.values_to_coefficients(&mut c, tmp);
-                    (c, coefficient_margin)
-                }
-            };
-            coefficient_stack.clear();
-            coefficient_stack.push((root_coefficients, 0, 0.0));
-            while let Some((c, depth, error)) = coefficient_stack.pop() {
-                regions += 1;
-                let (cmin, cmax) = min_max(&c);
-                // Vertex coefficients are det J at the region's vertices (to the margins).
-                let found_negative = sub
-                    .vertices()
-                    .iter()
-                    .any(|&v| c[v] < -(value_margin + coefficient_margin + error));
-                if depth > 0 {
-                    for &v in sub.vertices() {
-                        sampled_min = sampled_min.min(c[v]);
-                        sampled_max = sampled_max.max(c[v]);
-                    }
-                }
-                negative |= found_negative;
-                let certified = cmin > coefficient_margin + error;
-                if certified || negative || depth >= options.max_depth {
-                    undecided |= !certified && !found_negative;
-                    lower = lower.min(cmin - error);
-                    upper = upper.max(cmax + error);
-                    spare.push(c);
-                    continue;
-                }
-                let scale = c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-                for child in 0..sub.len() {
-                    let mut d = spare.pop().unwrap_or_default();
-                    sub.child(child, &c, &mut d, tmp);
-                    coefficient_stack.push((d, depth + 1, error + growth * scale));
-                }
-                spare.push(c);
-            }
-            return self.verdict(
-                (negative, undecided),
-                (lower, upper),
-                (sampled_min, sampled_max),
-                coefficient_margin,
-                regions,
+            // Shapes without exact coefficients (nodes that are not a tensor product):
+            // converted samples.
+            let mut root_coefficients = spare.pop().unwrap_or_default();
+            root_coefficients.clear();
+            root_coefficients.extend_from_slice(root);
+            self.space
+                .values_to_coefficients(&mut root_coefficients, tmp);
+            return self.check_subdivided(
+                sub,
+                (root_coefficients, coefficient_margin),
+                value_margin,
+                Some((sample_min, sample_max)),
+                options,
+                (coefficient_stack, spare, tmp),
             );
         }
         stack.clear();
@@ -503,6 +512,95 @@ impl JacobianBezier {
             }
         }
 
+        self.verdict(
+            (negative, undecided),
+            (lower, upper),
+            (sampled_min, sampled_max),
+            coefficient_margin,
+            regions,
+        )
+    }
+
+    /// The check by exact subdivision (quadrilaterals, hexahedra, prisms) from det J's
+    /// coefficients on the whole element and their rounding bound: regions split into the
+    /// children of a midpoint refinement while neither certified nor inverted, up to
+    /// `max_depth` levels. `value_margin` is the rounding of sampled values and `sampled`
+    /// their extremes; without samples (None) the vertex coefficients of every region,
+    /// the root's included, are the values met.
+    fn check_subdivided(
+        &self,
+        sub: &BernsteinSubdivision,
+        (root, coefficient_margin): (Vec<f64>, f64),
+        value_margin: f64,
+        sampled: Option<(f64, f64)>,
+        options: &BezierOptions,
+        (stack, spare, tmp): SubdivisionScratch<'_>,
+    ) -> ValidityCheck {
+        let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        if sampled.is_none()
+            && (!(scale.is_finite() && coefficient_margin.is_finite()) || scale == 0.0)
+        {
+            // Non-finite coordinates or a collapsed element: nothing can be certified.
+            let corner_min = sub
+                .vertices()
+                .iter()
+                .map(|&v| root[v])
+                .fold(f64::INFINITY, f64::min);
+            return ValidityCheck {
+                validity: if corner_min < -coefficient_margin {
+                    Validity::Invalid
+                } else {
+                    Validity::Undecided
+                },
+                min_jacobian_lower_bound: f64::NAN,
+                max_jacobian_upper_bound: f64::NAN,
+                scaled_jacobian_lower_bound: -1.0,
+                scaled_jacobian_upper_bound: f64::NAN,
+                regions: 1,
+            };
+        }
+        let (mut sampled_min, mut sampled_max) =
+            sampled.unwrap_or((f64::INFINITY, f64::NEG_INFINITY));
+        let include_root = sampled.is_none();
+        let (mut lower, mut upper) = (f64::INFINITY, f64::NEG_INFINITY);
+        let (mut negative, mut undecided) = (false, false);
+        let mut regions = 0;
+        // Regions carry their coefficients and a bound on the rounding the subdivisions
+        // added to them (rows are convex combinations: ≤ m ε max|c| per factor).
+        let growth = (sub.factors() * sub.longest_factor()) as f64 * f64::EPSILON;
+        stack.clear();
+        stack.push((root, 0, 0.0));
+        while let Some((c, depth, error)) = stack.pop() {
+            regions += 1;
+            let (cmin, cmax) = min_max(&c);
+            // Vertex coefficients are det J at the region's vertices (to the margins).
+            let found_negative = sub
+                .vertices()
+                .iter()
+                .any(|&v| c[v] < -(value_margin + coefficient_margin + error));
+            if depth > 0 || include_root {
+                for &v in sub.vertices() {
+                    sampled_min = sampled_min.min(c[v]);
+                    sampled_max = sampled_max.max(c[v]);
+                }
+            }
+            negative |= found_negative;
+            let certified = cmin > coefficient_margin + error;
+            if certified || negative || depth >= options.max_depth {
+                undecided |= !certified && !found_negative;
+                lower = lower.min(cmin - error);
+                upper = upper.max(cmax + error);
+                spare.push(c);
+                continue;
+            }
+            let scale = c.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+            for child in 0..sub.len() {
+                let mut d = spare.pop().unwrap_or_default();
+                sub.child(child, &c, &mut d, tmp);
+                stack.push((d, depth + 1, error + growth * scale));
+            }
+            spare.push(c);
+        }
         self.verdict(
             (negative, undecided),
             (lower, upper),
@@ -648,6 +746,14 @@ impl JacobianBezier {
         let Some((root, margin)) = self.root_coefficients(coords, ws) else {
             return *check;
         };
+        // The budget counts regions of at most REGION_COEFFICIENTS coefficients; larger
+        // ones (prisms and hexahedra of high order: 6 624 at p = 8) count in proportion,
+        // so that narrowing costs about the same per element at any order.
+        let budget = if self.space.len() > REGION_COEFFICIENTS {
+            (max_regions * REGION_COEFFICIENTS / self.space.len()).max(16)
+        } else {
+            max_regions
+        };
         let reference = self.space.shape().vertices();
         let mut corners = [[0.0; 3]; 4];
         for (c, v) in corners.iter_mut().zip(reference.iter()) {
@@ -686,9 +792,7 @@ impl JacobianBezier {
                 best.max_jacobian_upper_bound = best.max_jacobian_upper_bound.min(upper);
                 best.scaled_jacobian_lower_bound = lower / upper;
             }
-            if best.scaled_jacobian_lower_bound >= target
-                || regions.len() + children - 1 > max_regions
-            {
+            if best.scaled_jacobian_lower_bound >= target || regions.len() + children - 1 > budget {
                 break;
             }
             // Split where the interval is relatively loosest (the smallest coefficient
@@ -745,6 +849,9 @@ impl JacobianBezier {
     ) -> Option<(Vec<f64>, f64)> {
         if let Some(simplex) = &self.simplex {
             return Some(simplex.coefficients(coords));
+        }
+        if let Some(prism) = &self.prism {
+            return Some(prism.coefficients(coords));
         }
         if let Some(tensor) = &self.tensor {
             return Some(tensor.coefficients(coords));
