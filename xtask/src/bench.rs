@@ -226,3 +226,134 @@ fn gmsh_run(
         &json,
     )?)?))
 }
+
+/// Mesh size factor of the coarse sphere-in-a-box of `bench --high-order`: 1 236
+/// tetrahedra from the fixture's recipe (the size of issue 23's "coarse sphere").
+const COARSE_SIZE_FACTOR: f64 = 1.9;
+
+/// `cargo xtask bench --high-order [--orders 2,..,10]`: the coarse sphere-in-a-box curved
+/// by hocurve with its defaults at every order, against Gmsh's plain projection
+/// (`setOrder`) of the same linear mesh in the same run: whole-process time and peak
+/// memory, invalid elements and min Ĩ (measured by Gmsh on both meshes, degree-2p Gauss
+/// points), and the volume error against the exact 6³ − 4π/3 (det J integrated exactly with
+/// Gmsh's Jacobians). Targets (issue 23): ours ≤ 2× Gmsh's time and < 1 GB at p = 6..10.
+pub fn high_order(args: &[String]) -> Result<()> {
+    let mut orders: Vec<usize> = (2..=10).collect();
+    let mut it = args.iter().filter(|a| *a != "--high-order");
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--orders" => orders = list_argument(it.next(), "--orders", "6,8,10")?,
+            other => bail!("bench --high-order: unknown argument {other}"),
+        }
+    }
+    let Some(python) = python_env(false)? else {
+        bail!("bench needs the Python environment with gmsh");
+    };
+    run(
+        "build hocurve (release)",
+        cargo().args(["build", "--release", "-p", "hocurve-cli"]),
+    )?;
+    let hocurve = target_dir().join("release").join("hocurve");
+    let out = root().join("target").join("bench-high-order");
+    std::fs::create_dir_all(&out)?;
+    let script = root().join("xtask").join("scripts").join("bench_gmsh.py");
+    let linear = out.join("sphere_coarse.msh");
+    let factor = COARSE_SIZE_FACTOR.to_string();
+    run(
+        "Gmsh meshes the coarse sphere-in-a-box",
+        Command::new(&python)
+            .arg(&script)
+            .arg("mesh")
+            .arg(&linear)
+            .arg(&factor),
+    )?;
+    let exact = 216.0 - 4.0 * std::f64::consts::PI / 3.0;
+    let mut rows = Vec::new();
+    for &p in &orders {
+        let ours_msh = out.join(format!("hocurve_p{p}.msh"));
+        let report = out.join(format!("hocurve_p{p}.json"));
+        let start = Instant::now();
+        let status = Command::new(&hocurve)
+            .current_dir(root())
+            .arg("curve")
+            .arg(&linear)
+            .args(["--order", &p.to_string()])
+            .args(["--geometry", "fixtures/sphere/sphere.json", "-q", "-o"])
+            .arg(&ours_msh)
+            .arg("--report")
+            .arg(&report)
+            .status()
+            .context("running hocurve")?;
+        let seconds = start.elapsed().as_secs_f64();
+        eprintln!("==> hocurve curve, p = {p}: {seconds:.2} s ({status})");
+        let ours: Value = serde_json::from_str(&std::fs::read_to_string(&report)?)?;
+        let measured = out.join(format!("hocurve_p{p}_quality.json"));
+        run(
+            &format!("Gmsh measures hocurve's p = {p} mesh"),
+            Command::new(&python)
+                .arg(&script)
+                .args(["measure", &p.to_string()])
+                .arg(&ours_msh)
+                .arg(&measured),
+        )?;
+        let ours_quality: Value = serde_json::from_str(&std::fs::read_to_string(&measured)?)?;
+        let gmsh_json = out.join(format!("gmsh_p{p}.json"));
+        run(
+            &format!("Gmsh projects at p = {p}"),
+            Command::new(&python)
+                .arg(&script)
+                .args(["high", &p.to_string(), &factor])
+                .arg(&gmsh_json),
+        )?;
+        let gmsh: Value = serde_json::from_str(&std::fs::read_to_string(&gmsh_json)?)?;
+        rows.push((p, seconds, status.success(), ours, ours_quality, gmsh));
+    }
+    println!();
+    println!(
+        "coarse sphere in a box ({} tets; {} threads for hocurve, Gmsh threads as reported)",
+        rows.first()
+            .map_or(0, |r| r.3["elements"].as_u64().unwrap_or(0)),
+        rayon_threads()
+    );
+    println!(
+        "{:>2} {:>8} {:>7} {:>7} {:>9} {:>7} {:>7} {:>6} {:>6} | {:>5} {:>5} {:>8} {:>8} {:>9} | {:>9} {:>9}",
+        "p", "unknowns", "ours s", "ours MB", "certified", "Gmsh s", "Gmsh MB", "ratio", "met",
+        "inv", "g.inv", "Ĩ ours", "Ĩ Gmsh", "Ĩ≥ (cert)", "vol.err", "g.vol.err"
+    );
+    let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    let mut all_met = true;
+    for (p, seconds, ok, ours, q, gmsh) in &rows {
+        let ratio = seconds / f(&gmsh["set_order_seconds"]);
+        let peak = f(&ours["peak_memory_mb"]);
+        let elements = ours["elements"].as_u64().unwrap_or(0);
+        let certified = ours["certified_valid_elements"].as_u64().unwrap_or(0);
+        let met = *ok && ratio <= 2.0 && peak < 1024.0 && certified == elements;
+        if *p >= 6 {
+            all_met &= met;
+        }
+        println!(
+            "{p:>2} {:>8} {seconds:>7.2} {peak:>7.0} {:>9} {:>7.2} {:>7.0} {ratio:>6.2} {:>6} | {:>5} {:>5} {:>8.4} {:>8.4} {:>9.4} | {:>9.1e} {:>9.1e}",
+            ours["dofs"].as_u64().unwrap_or(0),
+            format!("{certified}/{elements}"),
+            f(&gmsh["set_order_seconds"]),
+            f(&gmsh["peak_rss_mb"]),
+            if met { "yes" } else { "no" },
+            q["invalid"].as_u64().unwrap_or(0),
+            gmsh["invalid"].as_u64().unwrap_or(0),
+            f(&q["min_scaled_jacobian"]),
+            f(&gmsh["min_scaled_jacobian"]),
+            f(&ours["min_scaled_jacobian_lower_bound"]),
+            (f(&q["volume"]) - exact) / exact,
+            (f(&gmsh["volume"]) - exact) / exact,
+        );
+    }
+    println!("ours s = the whole hocurve process (read, curve, certify, write .msh); Gmsh s = its setOrder (projection) alone; ratio = ours / Gmsh.");
+    println!("certified = elements certified det J > 0 everywhere by Bézier bounds; Ĩ≥ (cert) = their certified min scaled Jacobian.");
+    println!("inv, Ĩ = invalid elements and min det J / max det J at degree-2p Gauss points, measured by Gmsh on each mesh.");
+    println!("vol.err = (V − V_exact) / V_exact, V = ∫ det J integrated exactly (degree 3(p − 1)) with Gmsh's Jacobians.");
+    println!(
+        "target (p = 6..10: certified, ≤ 2× Gmsh's projection time, < 1 GB) {}",
+        if all_met { "met" } else { "NOT met" }
+    );
+    Ok(())
+}

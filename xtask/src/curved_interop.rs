@@ -2,8 +2,10 @@
 //! `.vtu` and integrates it with its own Lagrange shape functions
 //! (`scripts/check_snapshots.py`), and the real Gmsh reads the curved `.msh` files we write —
 //! every element type (triangles, quadrilaterals, tetrahedra, hexahedra, prisms) at
-//! p = 1..5 — finds det J positive at its own Gauss points (`scripts/check_msh.py --curved`)
-//! and equal to ours at our quadrature points (`scripts/compare_jacobians.py`).
+//! p = 1..5, and the coarse OpenCASCADE sphere at p = 6..10 — finds det J positive at its own
+//! Gauss points (`scripts/check_msh.py --curved`) and equal to ours at our quadrature points
+//! (`scripts/compare_jacobians.py`). Every mesh is curved with the default options and must
+//! come out with every element certified valid by our Bézier check.
 //!
 //! Our side: each fixture is curved in-process with [`curve_mesh`], written with
 //! [`write_msh`] (resampled to equispaced nodes, as Gmsh defines its elements), and det J of
@@ -25,38 +27,44 @@ use hocurve::quality::JacobianSampler;
 
 use crate::{root, run};
 
-/// A fixture curved for the Gmsh comparison: name, mesh, geometry JSON, highest order.
+/// A fixture curved for the Gmsh comparison: name, mesh, geometry JSON, orders.
 struct Case {
     name: &'static str,
     mesh: &'static str,
     geometry: &'static str,
-    max_order: usize,
+    orders: std::ops::RangeInclusive<usize>,
 }
 
-const CASES: [Case; 4] = [
+const CASES: [Case; 5] = [
     Case {
         name: "naca0012_tri",
         mesh: "fixtures/naca0012/naca0012.msh",
         geometry: "fixtures/naca0012/naca0012.json",
-        max_order: 5,
+        orders: 1..=5,
     },
     Case {
         name: "naca0012_quad",
         mesh: "fixtures/quad/naca0012_quads.msh",
         geometry: "fixtures/naca0012/naca0012.json",
-        max_order: 5,
+        orders: 1..=5,
     },
     Case {
         name: "hybrid_hex_prism",
         mesh: "fixtures/hybrid/hybrid.msh",
         geometry: "fixtures/hybrid/hybrid.json",
-        max_order: 5,
+        orders: 1..=5,
     },
     Case {
         name: "sphere_tet",
         mesh: "fixtures/sphere/sphere.msh",
         geometry: "fixtures/sphere/sphere.json",
-        max_order: 5,
+        orders: 1..=5,
+    },
+    Case {
+        name: "sphere_coarse_tet",
+        mesh: "fixtures/cad/sphere_coarse.msh",
+        geometry: "fixtures/cad/sphere_coarse.json",
+        orders: 6..=10,
     },
 ];
 
@@ -77,7 +85,7 @@ pub fn curved_interop(python: &Path) -> Result<()> {
         std::fs::remove_dir_all(&dir)?;
     }
     std::fs::create_dir_all(&dir)?;
-    eprintln!("==> curve the fixtures at p = 1..5 and write .msh with our det J");
+    eprintln!("==> curve the fixtures (p = 1..5; the coarse sphere at 6..10) and write .msh with our det J");
     let mut meshes = Vec::new();
     for case in &CASES {
         let linear = hocurve::io::read_msh(&root().join(case.mesh))?;
@@ -85,7 +93,7 @@ pub fn curved_interop(python: &Path) -> Result<()> {
             .with_context(|| format!("reading {}", case.geometry))?;
         let model = parse_geometry_json(&json)?;
         let rule = AssociationRule::NameOnly; // JSON geometries: by physical-group name
-        for p in 1..=case.max_order {
+        for p in case.orders.clone() {
             let t = std::time::Instant::now();
             let file = dir.join(format!("{}_p{p}.msh", case.name));
             write_curved(&linear, &model, rule, p, &file)?;
@@ -132,6 +140,16 @@ fn write_curved(
         &mut |_| {},
     )
     .with_context(|| format!("curving for {}", file.display()))?;
+    let report = &curved.report;
+    let certified = report.certified_valid_elements.unwrap_or(0);
+    if report.invalid_elements > 0 || certified != curved.mesh.cells.len() {
+        anyhow::bail!(
+            "{}: {} invalid, {certified} of {} elements certified valid",
+            file.display(),
+            report.invalid_elements,
+            curved.mesh.cells.len()
+        );
+    }
     let mesh = &curved.mesh;
     write_msh(file, &mesh.resampled(NodeFamily::Equispaced)?)?;
     std::fs::write(file.with_extension("json"), determinants_json(mesh)?)?;

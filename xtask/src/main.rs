@@ -29,7 +29,9 @@
 //! review` if installed). `cargo xtask bench` times our curving of the sphere against Gmsh's
 //! (`xtask/src/bench.rs`); `cargo xtask bench --scale` curves sphere meshes of about 100 k,
 //! 280 k and 950 k tetrahedra at p = 3 beside Gmsh's projection (`xtask/src/scale.rs`);
-//! `cargo xtask bench --layers` times the boundary-layer meshes (`xtask/src/layers.rs`).
+//! `cargo xtask bench --layers` times the boundary-layer meshes (`xtask/src/layers.rs`);
+//! `cargo xtask bench --high-order` curves the coarse sphere at p = 2..10 beside Gmsh's
+//! projection (`xtask/src/bench.rs`).
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -65,6 +67,9 @@ tasks:
                       our curving of the sphere against Gmsh's projection and elastic curving
   bench --scale       sphere meshes of ~100 k, 300 k and 1 M tetrahedra at p = 3 against Gmsh
   bench --layers      the boundary-layer meshes
+  bench --high-order [--orders 2,..,10]
+                      the coarse sphere at p = 2..10 against Gmsh's projection: time,
+                      memory, certification, min Ĩ, volume error
   help, --help, -h    this text
 ";
 
@@ -93,6 +98,9 @@ fn main() -> Result<()> {
         },
         Some("bench") if args[1..].iter().any(|a| a == "--scale") => scale::scale(&args[1..]),
         Some("bench") if args[1..].iter().any(|a| a == "--layers") => layers::layers(),
+        Some("bench") if args[1..].iter().any(|a| a == "--high-order") => {
+            bench::high_order(&args[1..])
+        }
         Some("bench") => bench::bench(&args[1..]),
         _ => {
             eprint!("{USAGE}");
