@@ -58,7 +58,7 @@ tasks:
                       needs PyPI (loudly)
   cad [--full]        the CAD families curved at p = 2..5, checked by Gmsh and OpenCASCADE
   interop [--offline] the real VTK, Gmsh, MFEM and PyFR read what hocurve writes
-  curved-interop [--offline]
+  curved-interop [--offline] [--full]
                       Gmsh's Jacobians on our curved .msh files equal ours
   snapshots           the golden snapshot suite (NACA0012, sphere)
   paper               the paper's Sect. 5.1 table and Fig. 12b study beside ours
@@ -88,7 +88,9 @@ fn main() -> Result<()> {
         Some("interpolation") => interpolation_table(),
         Some("snapshots") => snapshots::snapshot_suite(),
         Some("curved-interop") => match python_env(args.iter().any(|a| a == "--offline"))? {
-            Some(python) => curved_interop::curved_interop(&python),
+            Some(python) => {
+                curved_interop::curved_interop(&python, args.iter().any(|a| a == "--full"))
+            }
             None => Ok(()),
         },
         Some("paper") => paper(),
@@ -451,7 +453,7 @@ fn interop(args: &[String]) -> Result<()> {
             )?;
         }
     }
-    curved_interop::curved_interop(&python)?;
+    curved_interop::curved_interop(&python, args.iter().any(|a| a == "--full"))?;
     solver_readers(&python, &hocurve, &out)
 }
 

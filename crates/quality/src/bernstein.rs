@@ -127,7 +127,7 @@ impl BernsteinSpace {
     /// bisection, so the dense inverse (C(3(p − 1) + 3, 3)² numbers: 33 MB and seconds of
     /// factorisation at p = 8, 132 MB at p = 10) is never needed. Its
     /// [`BernsteinSpace::conversion_norm`] is infinite and it does not convert values.
-    pub(crate) fn lattice_only(shape: Shape, order: usize) -> Result<Self, QualityError> {
+    pub fn lattice_only(shape: Shape, order: usize) -> Result<Self, QualityError> {
         let (degree, degree_z) = jacobian_degree(shape, order);
         if degree.max(degree_z) > MAX_LINE_DEGREE {
             return Err(QualityError::UnsupportedBezierDegree {
