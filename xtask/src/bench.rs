@@ -41,17 +41,12 @@ pub fn bench(args: &[String]) -> Result<()> {
             other => bail!("bench: unknown argument {other}"),
         }
     }
-    let Some(python) = python_env(false)? else {
-        bail!("bench needs the Python environment with gmsh");
-    };
-    run(
-        "build hocurve (release)",
-        cargo().args(["build", "--release", "-p", "hocurve-cli"]),
-    )?;
-    let hocurve = target_dir().join("release").join("hocurve");
-    let out = root().join("target").join("bench");
-    std::fs::create_dir_all(&out)?;
-    let script = root().join("xtask").join("scripts").join("bench_gmsh.py");
+    let BenchSetup {
+        python,
+        hocurve,
+        out,
+        script,
+    } = bench_setup("bench")?;
     let linear = out.join("sphere.msh");
     run(
         "Gmsh meshes the sphere-in-a-box (fixtures/make_fixtures.py)",
@@ -153,6 +148,34 @@ pub fn bench(args: &[String]) -> Result<()> {
     Ok(())
 }
 
+/// What a sphere benchmark runs with: the Python environment, the release `hocurve`, its
+/// output directory under `target/` and `scripts/bench_gmsh.py`.
+struct BenchSetup {
+    python: PathBuf,
+    hocurve: PathBuf,
+    out: PathBuf,
+    script: PathBuf,
+}
+
+/// Finds the Python environment, builds `hocurve` (release) and creates `target/<dir>`.
+fn bench_setup(dir: &str) -> Result<BenchSetup> {
+    let Some(python) = python_env(false)? else {
+        bail!("bench needs the Python environment with gmsh");
+    };
+    run(
+        "build hocurve (release)",
+        cargo().args(["build", "--release", "-p", "hocurve-cli"]),
+    )?;
+    let out = root().join("target").join(dir);
+    std::fs::create_dir_all(&out)?;
+    Ok(BenchSetup {
+        python,
+        hocurve: target_dir().join("release").join("hocurve"),
+        out,
+        script: root().join("xtask").join("scripts").join("bench_gmsh.py"),
+    })
+}
+
 /// A comma-separated list given after `flag` (`example` shows one).
 pub(crate) fn list_argument<T: std::str::FromStr>(
     value: Option<&String>,
@@ -246,17 +269,12 @@ pub fn high_order(args: &[String]) -> Result<()> {
             other => bail!("bench --high-order: unknown argument {other}"),
         }
     }
-    let Some(python) = python_env(false)? else {
-        bail!("bench needs the Python environment with gmsh");
-    };
-    run(
-        "build hocurve (release)",
-        cargo().args(["build", "--release", "-p", "hocurve-cli"]),
-    )?;
-    let hocurve = target_dir().join("release").join("hocurve");
-    let out = root().join("target").join("bench-high-order");
-    std::fs::create_dir_all(&out)?;
-    let script = root().join("xtask").join("scripts").join("bench_gmsh.py");
+    let BenchSetup {
+        python,
+        hocurve,
+        out,
+        script,
+    } = bench_setup("bench-high-order")?;
     let linear = out.join("sphere_coarse.msh");
     let factor = COARSE_SIZE_FACTOR.to_string();
     run(

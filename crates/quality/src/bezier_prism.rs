@@ -22,7 +22,7 @@ use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
 use nalgebra::DMatrix;
 
 use crate::bezier_map::{binomial_table, determinant, Bounded};
-use crate::bezier_simplex::{simplex_lattice, ProductTable};
+use crate::bezier_simplex::{control_conversion, simplex_lattice, ProductTable};
 use crate::QualityError;
 
 /// The precomputed data of order-p prisms with one node family.
@@ -78,14 +78,9 @@ impl PrismJacobian {
             tri * line
         };
         let v = DMatrix::from_fn(n, n, |r, c| basis(&points[r], c));
-        let Some(inverse) = v.try_inverse() else {
+        let Some((to_bezier, conversion_norm)) = control_conversion(v) else {
             return Ok(None);
         };
-        let to_bezier: Vec<f64> = (0..n * n).map(|k| inverse[(k / n, k % n)]).collect();
-        let conversion_norm = to_bezier
-            .chunks(n)
-            .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
-            .fold(0.0, f64::max);
         let q = p - 1;
         let mut triangle_products = BTreeMap::new();
         for pair in [(q, p), (q, q), (q, 2 * q + 1), (p, 2 * q)] {

@@ -104,6 +104,20 @@ impl ProductTable {
     }
 }
 
+/// V⁻¹ row-major and its ∞-norm, for V_{nα} = B_α(ξ_n) (Bernstein polynomials at the
+/// nodes): the conversion from nodal values to Bézier control values and the factor by
+/// which it can amplify rounding. None for a singular V.
+pub(crate) fn control_conversion(v: DMatrix<f64>) -> Option<(Vec<f64>, f64)> {
+    let n = v.nrows();
+    let inverse = v.try_inverse()?;
+    let rows: Vec<f64> = (0..n * n).map(|k| inverse[(k / n, k % n)]).collect();
+    let norm = rows
+        .chunks(n.max(1))
+        .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
+        .fold(0.0, f64::max);
+    Some((rows, norm))
+}
+
 /// The precomputed data of order-p triangles or tetrahedra with one node family.
 #[derive(Debug, Clone)]
 pub(crate) struct SimplexJacobian {
@@ -184,14 +198,9 @@ impl SimplexJacobian {
         };
         let n = control.len();
         let v = DMatrix::from_fn(n, n, |i, j| basis(&points[i], &control[j]));
-        let Some(inverse) = v.try_inverse() else {
+        let Some((to_bezier, conversion_norm)) = control_conversion(v) else {
             return Ok(None);
         };
-        let to_bezier: Vec<f64> = (0..n * n).map(|k| inverse[(k / n, k % n)]).collect();
-        let conversion_norm = to_bezier
-            .chunks(n)
-            .map(|r| r.iter().map(|v| v.abs()).sum::<f64>())
-            .fold(0.0, f64::max);
         let at = lattice_positions(dim, p);
         let side = p + 1;
         let index = |m: [usize; 3]| at[m[0] + side * (m[1] + side * m[2])];

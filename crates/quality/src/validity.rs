@@ -537,27 +537,10 @@ impl JacobianBezier {
         (stack, spare, tmp): SubdivisionScratch<'_>,
     ) -> ValidityCheck {
         let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        if sampled.is_none()
-            && (!(scale.is_finite() && coefficient_margin.is_finite()) || scale == 0.0)
-        {
-            // Non-finite coordinates or a collapsed element: nothing can be certified.
-            let corner_min = sub
-                .vertices()
-                .iter()
-                .map(|&v| root[v])
-                .fold(f64::INFINITY, f64::min);
-            return ValidityCheck {
-                validity: if corner_min < -coefficient_margin {
-                    Validity::Invalid
-                } else {
-                    Validity::Undecided
-                },
-                min_jacobian_lower_bound: f64::NAN,
-                max_jacobian_upper_bound: f64::NAN,
-                scaled_jacobian_lower_bound: -1.0,
-                scaled_jacobian_upper_bound: f64::NAN,
-                regions: 1,
-            };
+        if sampled.is_none() {
+            if let Some(check) = unusable(&root, sub.vertices(), scale, coefficient_margin) {
+                return check;
+            }
         }
         let (mut sampled_min, mut sampled_max) =
             sampled.unwrap_or((f64::INFINITY, f64::NEG_INFINITY));
@@ -628,24 +611,8 @@ impl JacobianBezier {
         let (root, margin) = simplex.coefficients(coords);
         let vertices = simplex.vertices();
         let scale = root.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        if !(scale.is_finite() && margin.is_finite()) || scale == 0.0 {
-            // Non-finite coordinates or a collapsed element: nothing can be certified.
-            let corner_min = vertices
-                .iter()
-                .map(|&v| root[v])
-                .fold(f64::INFINITY, f64::min);
-            return ValidityCheck {
-                validity: if corner_min < -margin {
-                    Validity::Invalid
-                } else {
-                    Validity::Undecided
-                },
-                min_jacobian_lower_bound: f64::NAN,
-                max_jacobian_upper_bound: f64::NAN,
-                scaled_jacobian_lower_bound: -1.0,
-                scaled_jacobian_upper_bound: f64::NAN,
-                regions: 1,
-            };
+        if let Some(check) = unusable(&root, vertices, scale, margin) {
+            return check;
         }
         let Some(bisection) = &self.bisection else {
             return self.verdict(
@@ -912,6 +879,29 @@ impl JacobianBezier {
             regions,
         }
     }
+}
+
+/// The check of an element whose exact coefficients `c` (largest magnitude `scale`, rounding
+/// bound `margin`) certify nothing — non-finite coordinates or a collapsed element —:
+/// invalid if a vertex value (at `vertices`) is negative beyond the margin, else undecided.
+/// None when the coefficients are usable.
+fn unusable(c: &[f64], vertices: &[usize], scale: f64, margin: f64) -> Option<ValidityCheck> {
+    if scale.is_finite() && margin.is_finite() && scale != 0.0 {
+        return None;
+    }
+    let corner_min = vertices.iter().map(|&v| c[v]).fold(f64::INFINITY, f64::min);
+    Some(ValidityCheck {
+        validity: if corner_min < -margin {
+            Validity::Invalid
+        } else {
+            Validity::Undecided
+        },
+        min_jacobian_lower_bound: f64::NAN,
+        max_jacobian_upper_bound: f64::NAN,
+        scaled_jacobian_lower_bound: -1.0,
+        scaled_jacobian_upper_bound: f64::NAN,
+        regions: 1,
+    })
 }
 
 /// The Bézier validity check of every cell (Vec indexed like `mesh.cells`), in parallel and
