@@ -329,16 +329,12 @@ pub fn jacobian_degree(shape: Shape, order: usize) -> (usize, usize) {
 }
 
 /// Whether the Bézier validity check supports order-`order` elements of `shape`: det J's
-/// degree per variable within [`MAX_LINE_DEGREE`] (triangles and tetrahedra, whose
-/// coefficients are computed exactly without a conversion matrix: tetrahedra up to p = 14,
-/// hexahedra up to p = 13), and for prisms, which convert sampled values, their triangle
-/// factor within [`MAX_DENSE_COEFFICIENTS`].
+/// degree per variable within [`MAX_LINE_DEGREE`] (its coefficients are computed exactly from
+/// the map's control points, without a conversion matrix): tetrahedra up to p = 14,
+/// hexahedra and prisms up to p = 13, triangles up to p = 21.
 pub fn bezier_check_supported(shape: Shape, order: usize) -> bool {
     let (degree, degree_z) = jacobian_degree(shape, order);
-    match shape {
-        Shape::Prism => degree <= max_dense_degree(Shape::Tri) && degree_z <= MAX_LINE_DEGREE,
-        _ => degree <= MAX_LINE_DEGREE,
-    }
+    degree.max(degree_z) <= MAX_LINE_DEGREE
 }
 
 /// Largest total degree n whose dense factor fits [`MAX_DENSE_COEFFICIENTS`]: the simplex
