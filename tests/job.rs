@@ -124,7 +124,9 @@ fn outputs_and_geometry_formats_are_checked_by_extension() {
 }
 
 /// The same model from STEP and from IGES (both OpenCASCADE's exports) curves to the same
-/// mesh: the sphere's nodes by the exact sphere, bit for bit up to round-off.
+/// mesh to 1e-9 (issue 22): the sphere's nodes by the exact sphere, equal up to round-off;
+/// the interior ones through the CG solve, whose f32 smoothers turn the round-off difference
+/// of the boundary data into ~1e-11.
 #[test]
 fn step_and_iges_give_the_same_curved_mesh() {
     let dir = tempfile::tempdir().unwrap();
@@ -151,5 +153,5 @@ fn step_and_iges_give_the_same_curved_mesh() {
         .zip(&nodes[1])
         .flat_map(|(a, b)| (0..3).map(move |d| (a[d] - b[d]).abs()))
         .fold(0.0, f64::max);
-    assert!(gap < 1e-12, "{gap:e}");
+    assert!(gap < 1e-9, "{gap:e}");
 }

@@ -34,7 +34,7 @@ use crate::assembly::assemble_condensed;
 use crate::block_jacobi::{dof_cuts, entity_node_cuts};
 use crate::block_matrix::{BlockOperator, BlockPattern};
 use crate::condensation::Constraints;
-use crate::matrix_free::MatrixFreeStiffness;
+use crate::matrix_free::{MatrixFreeStiffness, SinglePrecision};
 use crate::pcg::{LinearOperator, Preconditioner};
 use crate::smoother::{ChebyshevSmoother, SmootherScratch};
 use crate::sparse::{from_rows, transpose, Cholesky};
@@ -221,7 +221,7 @@ impl<'a> PMultigrid<'a> {
         let smoother = matrix_free_smoother(a, &finest, options.smoother_degree);
         let smoother_seconds = start.elapsed().as_secs_f64();
         Self::with_coarse_levels(
-            (Box::new(a), smoother),
+            (Box::new(SinglePrecision(a)), smoother),
             finest,
             material,
             stiffening,
@@ -290,7 +290,7 @@ impl<'a> PMultigrid<'a> {
                 let begin = Instant::now();
                 let smoother = matrix_free_smoother(&operator, &level, degree);
                 smoother_seconds += begin.elapsed().as_secs_f64();
-                smoothers.push((Box::new(operator), smoother));
+                smoothers.push((Box::new(SinglePrecision(Box::new(operator))), smoother));
                 level_meshes.push(level);
                 continue;
             }
@@ -396,14 +396,19 @@ impl<'a> PMultigrid<'a> {
     }
 }
 
-/// The entity-block Chebyshev smoother of a matrix-free level.
+/// The entity-block Chebyshev smoother of a matrix-free level, its spectrum estimated with
+/// the f32 action it will smooth with.
 fn matrix_free_smoother(
     operator: &MatrixFreeStiffness,
     level: &LevelMesh,
     degree: usize,
 ) -> ChebyshevSmoother {
     let cuts = dof_cuts(&entity_node_cuts(&level.mesh), &level.constraints.first);
-    ChebyshevSmoother::from_block_jacobi(operator.block_jacobi(&cuts), operator, degree)
+    ChebyshevSmoother::from_block_jacobi(
+        operator.block_jacobi(&cuts),
+        &SinglePrecision(operator),
+        degree,
+    )
 }
 
 /// The free directions of the nodes of `coarse` (the same vertices, edges, faces and
