@@ -2,10 +2,12 @@
 //! [`hocurve_nodes::ReferenceElement`] (whose tabulated quadrature it holds): vertex shape
 //! functions at the nodes and the reference stiffness matrices of simplices.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, Mutex, OnceLock};
 
+use faer::linalg::matmul::matmul;
+use faer::{Accum, Mat, Par};
 use hocurve_mesh::HighOrderMesh;
-use std::sync::Arc;
 
 use hocurve_nodes::{NodeFamily, ReferenceElement, Shape, TabulatedBasis};
 
@@ -35,7 +37,13 @@ pub(crate) struct ReferenceStiffness {
     pub stiffness_rule: Arc<TabulatedBasis>,
     /// Degree-(2p + 2) rule for loads and error norms.
     pub load_rule: Arc<TabulatedBasis>,
+    /// The rank factors of the reference matrices, built once on first use
+    /// ([`crate::matrix_free`]).
+    pub(crate) gradient_factors: OnceLock<Arc<crate::matrix_free::ReferenceGradients>>,
 }
+
+/// (shape, order, node family).
+type Key = (Shape, usize, NodeFamily);
 
 impl ReferenceStiffness {
     pub fn new(shape: Shape, order: usize, family: NodeFamily) -> Result<Self, ElasticError> {
@@ -67,12 +75,37 @@ impl ReferenceStiffness {
             prism_stiffness,
             stiffness_rule,
             load_rule,
+            gradient_factors: OnceLock::new(),
         })
+    }
+
+    /// The reference data of `shape` at `order` and `family`, built once per process (the
+    /// p-multigrid asks for every order below the mesh's at every solve, and at p = 10 the
+    /// tetrahedron's matrices alone take a quarter of a second).
+    pub fn shared(
+        shape: Shape,
+        order: usize,
+        family: NodeFamily,
+    ) -> Result<Arc<Self>, ElasticError> {
+        static CACHE: OnceLock<Mutex<HashMap<Key, Arc<ReferenceStiffness>>>> = OnceLock::new();
+        let cache = CACHE.get_or_init(|| Mutex::new(HashMap::new()));
+        let lock = || {
+            cache
+                .lock()
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+        };
+        let key = (shape, order, family);
+        if let Some(hit) = lock().get(&key) {
+            return Ok(Arc::clone(hit));
+        }
+        // Built outside the lock; two threads building the same data get identical results.
+        let built = Arc::new(ReferenceStiffness::new(shape, order, family)?);
+        Ok(Arc::clone(lock().entry(key).or_insert(built)))
     }
 
     /// The reference elements of every shape present in `mesh`, after checking that each cell
     /// has the mesh's dimension and the right number of nodes.
-    pub fn for_mesh(mesh: &HighOrderMesh) -> Result<BTreeMap<Shape, Self>, ElasticError> {
+    pub fn for_mesh(mesh: &HighOrderMesh) -> Result<BTreeMap<Shape, Arc<Self>>, ElasticError> {
         let mut out = BTreeMap::new();
         for (c, cell) in mesh.cells.iter().enumerate() {
             let shape = cell.kind;
@@ -84,7 +117,7 @@ impl ReferenceStiffness {
                 });
             }
             if let std::collections::btree_map::Entry::Vacant(slot) = out.entry(shape) {
-                slot.insert(ReferenceStiffness::new(shape, mesh.order, mesh.family)?);
+                slot.insert(ReferenceStiffness::shared(shape, mesh.order, mesh.family)?);
             }
             let expected = shape.num_nodes(mesh.order);
             if cell.nodes.len() != expected {
@@ -156,21 +189,36 @@ impl ReferenceStiffness {
 }
 
 /// S_αβ[i][j] = ∫ ∂Φᵢ/∂ξ_α ∂Φⱼ/∂ξ_β dξ by `rule`, at index `α dim + β`, each n × n
-/// row-major.
+/// row-major: S_αβ = G_αᵀ W G_β with G_α[q][i] = ∂Φᵢ/∂ξ_α(ξ_q), W the weights, by faer's
+/// matrix product (sequential: the same bits for any thread count), and S_βα = S_αβᵀ.
 fn reference_matrices(rule: &TabulatedBasis, dim: usize, len: usize) -> Vec<Vec<f64>> {
-    let mut s = vec![vec![0.0; len * len]; dim * dim];
-    for q in 0..rule.len() {
-        let w = rule.weights()[q];
-        let g = rule.gradients(q);
-        for alpha in 0..dim {
-            for beta in 0..dim {
-                let m = &mut s[alpha * dim + beta];
-                for i in 0..len {
-                    let wi = w * g[i][alpha];
-                    for j in 0..len {
-                        m[i * len + j] += wi * g[j][beta];
-                    }
-                }
+    let points = rule.len();
+    let gradients: Vec<Mat<f64>> = (0..dim)
+        .map(|alpha| Mat::from_fn(points, len, |q, i| rule.gradients(q)[i][alpha]))
+        .collect();
+    let weighted: Vec<Mat<f64>> = gradients
+        .iter()
+        .map(|g| Mat::from_fn(points, len, |q, i| rule.weights()[q] * g[(q, i)]))
+        .collect();
+    let mut s = vec![Vec::new(); dim * dim];
+    for alpha in 0..dim {
+        for beta in alpha..dim {
+            let mut product = Mat::<f64>::zeros(len, len);
+            matmul(
+                product.as_mut(),
+                Accum::Replace,
+                gradients[alpha].transpose(),
+                weighted[beta].as_ref(),
+                1.0,
+                Par::Seq,
+            );
+            s[alpha * dim + beta] = (0..len * len)
+                .map(|k| product[(k / len, k % len)])
+                .collect();
+            if beta != alpha {
+                s[beta * dim + alpha] = (0..len * len)
+                    .map(|k| product[(k % len, k / len)])
+                    .collect();
             }
         }
     }
