@@ -13,10 +13,11 @@ fn fixture(name: &str) -> PathBuf {
         .join(name)
 }
 
-const FIXTURES: [&str; 5] = [
+const FIXTURES: [&str; 6] = [
     "naca0012/naca0012.msh",
     "quad/naca0012_quads.msh",
     "sphere/sphere.msh",
+    "sphere/sphere_small.msh",
     "hybrid/hybrid.msh",
     "formats/cube_v41_ascii.msh",
 ];

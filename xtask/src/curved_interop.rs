@@ -2,8 +2,9 @@
 //! `.vtu` and integrates it with its own Lagrange shape functions
 //! (`scripts/check_snapshots.py`), and the real Gmsh reads the curved `.msh` files we write —
 //! every element type (triangles, quadrilaterals, tetrahedra, hexahedra, prisms) at
-//! p = 1..5, and the coarse OpenCASCADE sphere at p = 6, 7 (`--full`: 6..10; p = 10 curves
-//! in a minute and Gmsh's O(n²)-per-point evaluation takes minutes more) — finds det J positive at its own
+//! p = 1..5, the coarse OpenCASCADE sphere at p = 6, 7 and a smaller one (257 tetrahedra)
+//! at p = 8 (`--full`: both at 6..10; Gmsh's O(n²)-per-point evaluation takes minutes at
+//! p = 10, and so does our reshaping of the small sphere's worst element) — finds det J positive at its own
 //! Gauss points (`scripts/check_msh.py --curved`) and equal to ours at our quadrature points
 //! (`scripts/compare_jacobians.py`). Every mesh is curved with the default options and must
 //! come out with every element certified valid by our Bézier check.
@@ -28,49 +29,65 @@ use hocurve::quality::JacobianSampler;
 
 use crate::{root, run};
 
-/// A fixture curved for the Gmsh comparison: name, mesh, geometry JSON, orders.
+/// A fixture curved for the Gmsh comparison: name, mesh, geometry JSON, orders (with
+/// `--full`, and without).
 struct Case {
     name: &'static str,
     mesh: &'static str,
     geometry: &'static str,
     orders: std::ops::RangeInclusive<usize>,
+    default_orders: std::ops::RangeInclusive<usize>,
 }
 
-const CASES: [Case; 5] = [
+const CASES: [Case; 6] = [
     Case {
         name: "naca0012_tri",
         mesh: "fixtures/naca0012/naca0012.msh",
         geometry: "fixtures/naca0012/naca0012.json",
         orders: 1..=5,
+        default_orders: 1..=5,
     },
     Case {
         name: "naca0012_quad",
         mesh: "fixtures/quad/naca0012_quads.msh",
         geometry: "fixtures/naca0012/naca0012.json",
         orders: 1..=5,
+        default_orders: 1..=5,
     },
     Case {
         name: "hybrid_hex_prism",
         mesh: "fixtures/hybrid/hybrid.msh",
         geometry: "fixtures/hybrid/hybrid.json",
         orders: 1..=5,
+        default_orders: 1..=5,
     },
     Case {
         name: "sphere_tet",
         mesh: "fixtures/sphere/sphere.msh",
         geometry: "fixtures/sphere/sphere.json",
         orders: 1..=5,
+        default_orders: 1..=5,
     },
     Case {
         name: "sphere_coarse_tet",
         mesh: "fixtures/cad/sphere_coarse.msh",
         geometry: "fixtures/cad/sphere_coarse.json",
         orders: 6..=10,
+        default_orders: 6..=7,
+    },
+    // The same model with every size ×4 (257 tetrahedra, 42 triangles on the sphere:
+    // large boundary displacements), at p = 8 (p = 6..10 with --full).
+    Case {
+        name: "sphere_small_tet",
+        mesh: "fixtures/sphere/sphere_small.msh",
+        geometry: "fixtures/sphere/sphere.json",
+        orders: 6..=10,
+        default_orders: 8..=8,
     },
 ];
 
 /// Runs the VTK snapshot check and the Gmsh checks of curved meshes with `python`; `full`
-/// takes the coarse sphere to p = 10.
+/// takes both coarse spheres through p = 6..10.
 pub fn curved_interop(python: &Path, full: bool) -> Result<()> {
     let scripts = root().join("xtask").join("scripts");
     let out = root().join("target").join("interop");
@@ -87,7 +104,7 @@ pub fn curved_interop(python: &Path, full: bool) -> Result<()> {
         std::fs::remove_dir_all(&dir)?;
     }
     std::fs::create_dir_all(&dir)?;
-    eprintln!("==> curve the fixtures (p = 1..5; the coarse sphere at 6, 7, with --full to 10) and write .msh with our det J");
+    eprintln!("==> curve the fixtures (p = 1..5; the coarse spheres at 6, 7 and 8, with --full 6..10) and write .msh with our det J");
     let mut meshes = Vec::new();
     for case in &CASES {
         let linear = hocurve::io::read_msh(&root().join(case.mesh))?;
@@ -95,10 +112,11 @@ pub fn curved_interop(python: &Path, full: bool) -> Result<()> {
             .with_context(|| format!("reading {}", case.geometry))?;
         let model = parse_geometry_json(&json)?;
         let rule = AssociationRule::NameOnly; // JSON geometries: by physical-group name
-        let mut orders = case.orders.clone();
-        if !full && *orders.end() > 7 {
-            orders = *orders.start()..=7;
-        }
+        let orders = if full {
+            case.orders.clone()
+        } else {
+            case.default_orders.clone()
+        };
         for p in orders {
             let t = std::time::Instant::now();
             let file = dir.join(format!("{}_p{p}.msh", case.name));
