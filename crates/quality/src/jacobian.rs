@@ -141,6 +141,14 @@ impl JacobianSampler {
         g
     }
 
+    /// ∇Φ of every node at sample point `point` (entry `node`; only the first `dim`
+    /// components are meaningful): [`JacobianSampler::gradient`] for all nodes at once, for
+    /// loops over the nodes of one point.
+    #[inline]
+    pub fn point_gradients(&self, point: usize) -> &[[f64; 3]] {
+        self.table.gradients(point)
+    }
+
     /// det J(ξ_q) for every sample point q of the element whose node coordinates are
     /// `coords` (canonical local order). Allocates only while `workspace` grows.
     pub fn determinants_with<'w>(

@@ -197,8 +197,8 @@ impl DistortionEnergy<'_> {
         for (q, w_inv) in cell.ideal_inverse.iter().enumerate() {
             let Some(w_inv) = w_inv else { continue };
             let mut j = [[0.0; 3]; 3];
-            for (i, xi) in coords.iter().enumerate() {
-                let g = sampler.gradient(i, q);
+            let gradients = sampler.point_gradients(q);
+            for (xi, g) in coords.iter().zip(gradients) {
                 for d in 0..dim {
                     for k in 0..dim {
                         j[d][k] += xi[d] * g[k];
@@ -222,8 +222,7 @@ impl DistortionEnergy<'_> {
                     df_dj[d][k] = (0..dim).map(|m| df_dt[d][m] * w_inv[k][m]).sum();
                 }
             }
-            for (i, gi) in out.gradient.iter_mut().enumerate() {
-                let g = sampler.gradient(i, q);
+            for (gi, g) in out.gradient.iter_mut().zip(gradients) {
                 for d in 0..dim {
                     gi[d] += (0..dim).map(|k| df_dj[d][k] * g[k]).sum::<f64>();
                 }

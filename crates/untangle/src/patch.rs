@@ -303,8 +303,7 @@ fn patch_energy<'a>(
         let ideal_inverse = (0..sampler.points().len())
             .map(|q| {
                 let mut w = [[0.0; 3]; 3];
-                for (i, &n) in cell.nodes.iter().enumerate() {
-                    let g = sampler.gradient(i, q);
+                for (&n, g) in cell.nodes.iter().zip(sampler.point_gradients(q)) {
                     let x = straight[n as usize];
                     for d in 0..dim {
                         for k in 0..dim {
