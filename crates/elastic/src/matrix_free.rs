@@ -72,24 +72,31 @@ trait CellReal:
     /// J⁻¹ and |det J| in this precision (see [`ShapePart::geometry`]).
     fn geometry(part: &ShapePart) -> &[[Self; 10]];
     /// The gradient modes by sum factorisation, when `part` has it in this precision;
-    /// false: use the dense factors.
+    /// false: use the dense factors. Sum factorisation is f64 only: an operator with such
+    /// parts is not applied in f32 ([`MatrixFreeStiffness::single`]).
+    #[inline(always)]
     fn factorised_gradients<const D: usize>(
-        part: &ShapePart,
-        x: &[Self],
-        n: usize,
-        modes: &mut [Self],
-        stride: usize,
-        scratch: &mut ExtrudedScratch,
-    ) -> bool;
+        _part: &ShapePart,
+        _x: &[Self],
+        _n: usize,
+        _modes: &mut [Self],
+        _stride: usize,
+        _scratch: &mut ExtrudedScratch,
+    ) -> bool {
+        false
+    }
     /// Its transpose, likewise.
+    #[inline(always)]
     fn factorised_transpose<const D: usize>(
-        part: &ShapePart,
-        modes: &[Self],
-        stride: usize,
-        y: &mut [Self],
-        n_padded: usize,
-        scratch: &mut ExtrudedScratch,
-    ) -> bool;
+        _part: &ShapePart,
+        _modes: &[Self],
+        _stride: usize,
+        _y: &mut [Self],
+        _n_padded: usize,
+        _scratch: &mut ExtrudedScratch,
+    ) -> bool {
+        false
+    }
 }
 
 impl CellReal for f64 {
@@ -157,30 +164,6 @@ impl CellReal for f32 {
     #[inline(always)]
     fn geometry(part: &ShapePart) -> &[[Self; 10]] {
         &part.single_geometry
-    }
-    // Sum factorisation is f64 only: an operator with such parts is not applied in f32
-    // ([`MatrixFreeStiffness::single`]).
-    #[inline(always)]
-    fn factorised_gradients<const D: usize>(
-        _: &ShapePart,
-        _: &[Self],
-        _: usize,
-        _: &mut [Self],
-        _: usize,
-        _: &mut ExtrudedScratch,
-    ) -> bool {
-        false
-    }
-    #[inline(always)]
-    fn factorised_transpose<const D: usize>(
-        _: &ShapePart,
-        _: &[Self],
-        _: usize,
-        _: &mut [Self],
-        _: usize,
-        _: &mut ExtrudedScratch,
-    ) -> bool {
-        false
     }
 }
 
