@@ -253,6 +253,10 @@ fn gmsh_run(
 /// Mesh size factor of the coarse sphere-in-a-box of `bench --high-order`: 1 236
 /// tetrahedra from the fixture's recipe (the size of issue 23's "coarse sphere").
 const COARSE_SIZE_FACTOR: f64 = 1.9;
+/// Runs of each side whose best time `bench --high-order` reports at p ≤ 8 (one above,
+/// where a run takes tens of seconds): on this shared 2-core machine single timings of
+/// the same p = 6 run spread over ±15 %.
+const BEST_OF: usize = 3;
 
 /// `cargo xtask bench --high-order [--orders 2,..,10]`: the coarse sphere-in-a-box curved
 /// by hocurve with its defaults at every order, against Gmsh's plain projection
@@ -288,22 +292,32 @@ pub fn high_order(args: &[String]) -> Result<()> {
     let exact = 216.0 - 4.0 * std::f64::consts::PI / 3.0;
     let mut rows = Vec::new();
     for &p in &orders {
+        let runs = if p <= 8 { BEST_OF } else { 1 };
         let ours_msh = out.join(format!("hocurve_p{p}.msh"));
         let report = out.join(format!("hocurve_p{p}.json"));
-        let start = Instant::now();
-        let status = Command::new(&hocurve)
-            .current_dir(root())
-            .arg("curve")
-            .arg(&linear)
-            .args(["--order", &p.to_string()])
-            .args(["--geometry", "fixtures/sphere/sphere.json", "-q", "-o"])
-            .arg(&ours_msh)
-            .arg("--report")
-            .arg(&report)
-            .status()
-            .context("running hocurve")?;
-        let seconds = start.elapsed().as_secs_f64();
-        eprintln!("==> hocurve curve, p = {p}: {seconds:.2} s ({status})");
+        // The same output every run (deterministic); the best time.
+        let mut seconds = f64::INFINITY;
+        let mut status = None;
+        for _ in 0..runs {
+            let start = Instant::now();
+            let done = Command::new(&hocurve)
+                .current_dir(root())
+                .arg("curve")
+                .arg(&linear)
+                .args(["--order", &p.to_string()])
+                .args(["--geometry", "fixtures/sphere/sphere.json", "-q", "-o"])
+                .arg(&ours_msh)
+                .arg("--report")
+                .arg(&report)
+                .status()
+                .context("running hocurve")?;
+            seconds = seconds.min(start.elapsed().as_secs_f64());
+            status = Some(done);
+        }
+        let Some(status) = status else {
+            bail!("no hocurve run at p = {p}");
+        };
+        eprintln!("==> hocurve curve, p = {p}: best of {runs}: {seconds:.2} s ({status})");
         let ours: Value = serde_json::from_str(&std::fs::read_to_string(&report)?)?;
         let measured = out.join(format!("hocurve_p{p}_quality.json"));
         run(
@@ -316,14 +330,20 @@ pub fn high_order(args: &[String]) -> Result<()> {
         )?;
         let ours_quality: Value = serde_json::from_str(&std::fs::read_to_string(&measured)?)?;
         let gmsh_json = out.join(format!("gmsh_p{p}.json"));
-        run(
-            &format!("Gmsh projects at p = {p}"),
-            Command::new(&python)
-                .arg(&script)
-                .args(["high", &p.to_string(), &factor])
-                .arg(&gmsh_json),
-        )?;
-        let gmsh: Value = serde_json::from_str(&std::fs::read_to_string(&gmsh_json)?)?;
+        let mut gmsh = Value::Null;
+        let mut best = f64::INFINITY;
+        for _ in 0..runs {
+            run(
+                &format!("Gmsh projects at p = {p}"),
+                Command::new(&python)
+                    .arg(&script)
+                    .args(["high", &p.to_string(), &factor])
+                    .arg(&gmsh_json),
+            )?;
+            gmsh = serde_json::from_str(&std::fs::read_to_string(&gmsh_json)?)?;
+            best = best.min(gmsh["set_order_seconds"].as_f64().unwrap_or(f64::INFINITY));
+        }
+        gmsh["set_order_seconds"] = Value::from(best);
         rows.push((p, seconds, status.success(), ours, ours_quality, gmsh));
     }
     println!();
@@ -365,7 +385,7 @@ pub fn high_order(args: &[String]) -> Result<()> {
             (f(&gmsh["volume"]) - exact) / exact,
         );
     }
-    println!("ours s = the whole hocurve process (read, curve, certify, write .msh); Gmsh s = its setOrder (projection) alone; ratio = ours / Gmsh.");
+    println!("ours s = the whole hocurve process (read, curve, certify, write .msh); Gmsh s = its setOrder (projection) alone; ratio = ours / Gmsh; each the best of {BEST_OF} runs at p ≤ 8.");
     println!("certified = elements certified det J > 0 everywhere by Bézier bounds; Ĩ≥ (cert) = their certified min scaled Jacobian.");
     println!("inv, Ĩ = invalid elements and min det J / max det J at degree-2p Gauss points, measured by Gmsh on each mesh.");
     println!("vol.err = (V − V_exact) / V_exact, V = ∫ det J integrated exactly (degree 3(p − 1)) with Gmsh's Jacobians.");
