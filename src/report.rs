@@ -146,7 +146,8 @@ pub struct CurveReport {
     /// Relative residual ‖f − Ku‖ / ‖f‖ of the solve (0 without a solve).
     pub residual: f64,
     /// When CG stopped because its estimated displacement error fell below this length
-    /// (10⁻⁶ of the shortest edge) before the residual reached its tolerance: the bound.
+    /// (10⁻⁴ of the shortest edge, × (4/p)² above p = 4) before the residual reached its
+    /// tolerance: the bound.
     pub displacement_error_bound: Option<f64>,
     /// Smallest scaled Jacobian Ĩ (None for an empty mesh).
     pub min_scaled_jacobian: Option<f64>,
