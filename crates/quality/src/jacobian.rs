@@ -131,19 +131,9 @@ impl JacobianSampler {
         self.table.num_nodes()
     }
 
-    /// ∇Φ_node at sample point `point` (reference coordinates; the components beyond the
-    /// shape's dimension are 0): the sensitivity of J(ξ_point) to that node's position,
-    /// ∂J/∂x_node = e_d ⊗ ∇Φ_node.
-    pub fn gradient(&self, node: usize, point: usize) -> [f64; 3] {
-        let dim = self.shape.dim();
-        let mut g = [0.0; 3];
-        g[..dim].copy_from_slice(&self.table.gradients(point)[node][..dim]);
-        g
-    }
-
     /// ∇Φ of every node at sample point `point` (entry `node`; only the first `dim`
-    /// components are meaningful): [`JacobianSampler::gradient`] for all nodes at once, for
-    /// loops over the nodes of one point.
+    /// components are meaningful): the sensitivity of J(ξ_point) to each node's position,
+    /// ∂J/∂x_node = e_d ⊗ ∇Φ_node.
     #[inline]
     pub fn point_gradients(&self, point: usize) -> &[[f64; 3]] {
         self.table.gradients(point)
