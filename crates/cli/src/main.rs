@@ -233,12 +233,26 @@ fn main() -> ExitCode {
         eprintln!("hocurve: interrupted; no output written");
         hocurve::io::exit_removing_temporary_files(130);
     });
-    match run(cli) {
+    match in_worker_pool(|| run(cli)) {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("hocurve: error: {}", one_line(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Runs `job` on a thread of rayon's pool rather than beside it: the solver opens thousands
+/// of short parallel regions (vector operations of every V-cycle), and each one called from
+/// outside the pool hands the work over and puts the caller to sleep on a futex — on two
+/// cores ~15 % of the run went to those wake-ups. The pool's threads get the main thread's
+/// stack size (8 MiB) as deep recursion (parsers) runs there too. Thread count as rayon's
+/// global pool (`RAYON_NUM_THREADS`, else one per core); the results do not depend on it.
+fn in_worker_pool<R: Send>(job: impl FnOnce() -> Result<R> + Send) -> Result<R> {
+    match rayon::ThreadPoolBuilder::new().stack_size(8 << 20).build() {
+        Ok(pool) => pool.install(job),
+        // No threads to be had: run where we are.
+        Err(_) => job(),
     }
 }
 
