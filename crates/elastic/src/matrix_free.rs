@@ -563,11 +563,11 @@ impl MatrixFreeStiffness {
                     .for_each_run(CellScratch::default, |scratch, run| {
                         let range = part.runs.run_range(run);
                         let len = range.len();
-                        // The run's nodal values (component d of its node j at d len + j) and
+                        // The run's nodal values (component d of its node j at 3 j + d) and
                         // results.
-                        scratch.run_x.resize(dim * len, T::default());
+                        scratch.run_x.resize(3 * len, T::default());
                         scratch.run_y.clear();
-                        scratch.run_y.resize(dim * len, T::default());
+                        scratch.run_y.resize(3 * len, T::default());
                         for (j, i) in range.clone().enumerate() {
                             if let Some(&ahead) = part.slots.get(i + PREFETCH_AHEAD) {
                                 if let Some(f) = self.nodes.first_of_slot(ahead) {
@@ -575,25 +575,15 @@ impl MatrixFreeStiffness {
                                 }
                             }
                             let v = gather(part, i);
-                            for d in 0..dim {
-                                scratch.run_x[d * len + j] = T::of(v[d]);
+                            for d in 0..3 {
+                                scratch.run_x[3 * j + d] = T::of(v[d]);
                             }
                         }
                         for c in part.runs.cells_of_run(run) {
-                            let local = part.runs.local(c);
-                            // Every entry is overwritten.
-                            scratch.x.resize(dim * n, T::default());
-                            for (a, &j) in local.iter().enumerate() {
-                                for d in 0..dim {
-                                    scratch.x[d * n + a] = scratch.run_x[d * len + j as usize];
-                                }
-                            }
-                            self.cell_action::<T, L>(part, c, scratch);
-                            for (a, &j) in local.iter().enumerate() {
-                                for d in 0..dim {
-                                    scratch.run_y[d * len + j as usize] +=
-                                        scratch.y[d * n_padded + a];
-                                }
+                            if dim == 2 {
+                                self.cell_in_run::<T, L, 2>(part, c, n, n_padded, scratch);
+                            } else {
+                                self.cell_in_run::<T, L, 3>(part, c, n, n_padded, scratch);
                             }
                         }
                         for (j, &slot) in part.slots[range.clone()].iter().enumerate() {
@@ -603,13 +593,49 @@ impl MatrixFreeStiffness {
                                 }
                             }
                             let mut v = [0.0; 3];
-                            (0..dim).for_each(|d| v[d] = scratch.run_y[d * len + j].wide());
+                            (0..dim).for_each(|d| v[d] = scratch.run_y[3 * j + d].wide());
                             self.nodes
                                 .restrict_slot(slot, v, |i, value| sums.add(i, value));
                         }
                     });
             }
         });
+    }
+
+    /// The cell at position c of `part` within its run: its nodes' values from the run's
+    /// (`scratch.run_x`, node-major) into the cell's (component-major), the cell action, its
+    /// result added to the run's (`scratch.run_y`). D a constant so that the copies unroll.
+    #[inline(always)]
+    fn cell_in_run<T: CellReal, const L: usize, const D: usize>(
+        &self,
+        part: &ShapePart,
+        c: usize,
+        n: usize,
+        n_padded: usize,
+        scratch: &mut CellScratch<T>,
+    ) {
+        let local = part.runs.local(c);
+        // Every entry is overwritten.
+        scratch.x.resize(D * n, T::default());
+        {
+            let (x, run_x) = (&mut scratch.x[..D * n], &scratch.run_x[..]);
+            for (a, &j) in local.iter().enumerate().take(n) {
+                let j = 3 * j as usize;
+                let v = &run_x[j..j + D];
+                for d in 0..D {
+                    x[d * n + a] = v[d];
+                }
+            }
+        }
+        self.cell_action::<T, L>(part, c, scratch);
+        let (y, run_y) = (&scratch.y[..D * n_padded], &mut scratch.run_y[..]);
+        for (a, &j) in local.iter().enumerate().take(n) {
+            let j = 3 * j as usize;
+            let v = &mut run_y[j..j + D];
+            for d in 0..D {
+                v[d] += y[d * n_padded + a];
+            }
+        }
     }
 
     /// scratch.y = K_c scratch.x for the cell at position c of `part` (module
