@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 21] = [
+const CASES: [Case; 23] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -181,6 +181,23 @@ const CASES: [Case; 21] = [
         orders: 2..=5,
         vtk_from: usize::MAX,
     },
+    // Coarse parts with faces bounded by feature curves (hole rims, the pipes' saddle).
+    Case {
+        name: "plate_holes",
+        geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    Case {
+        name: "tee_pipes",
+        geometry: "igs",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
     // The same models from OpenCASCADE's STEP export (fixtures also in IGES above).
     Case {
         name: "sphere_coarse",
@@ -226,8 +243,9 @@ const CASES: [Case; 21] = [
 
 /// Fixtures exported by OpenCASCADE both as IGES and as STEP, with the order at which the
 /// two curved meshes are compared, and whether only under `--full`.
-const STEP_AND_IGES: [(&str, usize, bool); 5] = [
+const STEP_AND_IGES: [(&str, usize, bool); 6] = [
     ("sphere_occ", 3, false),
+    ("plate_holes", 3, false),
     ("naca_layers_2d", 3, false),
     ("naca_layers", 2, false),
     ("naca_layers_tets", 2, false),

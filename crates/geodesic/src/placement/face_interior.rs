@@ -36,6 +36,38 @@ pub(super) fn place_facet(
             let f = if a < b { fraction } else { 1.0 - fraction };
             Ok(carrier.at(f))
         };
+    // Eqs. (6), (7) reproduce an edge only where it is the geodesic between its vertices
+    // on this facet's surface. Other edges — feature curves where two surfaces meet, edges
+    // rebuilt by the minimum-angle correction — the constructions miss by `share` of their
+    // distance from that geodesic (1/3 for a triangle: one of its three geodesics runs
+    // between the edge's vertices; 1/2 for a quadrilateral): that miss, d(s), is added
+    // back, blended to vanish on the other edges (see `edge_blend`), so that the face
+    // meets its edges exactly (a plate's face bounded by a hole's rim otherwise lags the
+    // rim's bulge by a third, and folds once the nodes are closer than that).
+    let share = if shape == Shape::Quad { 0.5 } else { 1.0 / 3.0 };
+    let geodesic_edge = |i: usize, j: usize| {
+        let (a, b) = (nodes[i], nodes[j]);
+        matches!(
+            carriers.get(&[a.min(b), a.max(b)]),
+            Some(EdgeCarrier::Surface { .. })
+        )
+    };
+    let miss = |i: usize, j: usize, fraction: f64| -> Result<[f64; 3], GeodesicError> {
+        let on_edge = along(i, j, fraction)?;
+        let geodesic = geodesic_point(
+            geometry,
+            entity,
+            along(i, j, 0.0)?,
+            along(i, j, 1.0)?,
+            fraction,
+        );
+        Ok(scale(sub(on_edge.1, geodesic.1), share))
+    };
+    let corner_count = if shape == Shape::Quad { 4 } else { 3 };
+    let corrected: Vec<(usize, usize)> = (0..corner_count)
+        .map(|i| (i, (i + 1) % corner_count))
+        .filter(|&(i, j)| !geodesic_edge(i, j))
+        .collect();
     let mut out = Vec::new();
     if shape == Shape::Line {
         return Ok(out);
@@ -49,8 +81,10 @@ pub(super) fn place_facet(
             NodeEntity::Vertex(_) | NodeEntity::Edge { .. } => {}
             NodeEntity::Interior(_) | NodeEntity::Face { .. } => {
                 let x = match shape {
-                    Shape::Tri => triangle_node(geometry, entity, &along, *xi)?,
-                    Shape::Quad => quadrilateral_node(geometry, entity, &along, *xi)?,
+                    Shape::Tri => triangle_node(geometry, entity, &along, &miss, &corrected, *xi)?,
+                    Shape::Quad => {
+                        quadrilateral_node(geometry, entity, &along, &miss, &corrected, *xi)?
+                    }
                     other => {
                         return Err(GeodesicError::Mismatch(format!(
                             "a boundary facet cannot be a {}",
@@ -114,13 +148,19 @@ pub(super) fn geodesic_point(
 }
 
 type Along<'a> = dyn Fn(usize, usize, f64) -> Result<([f64; 2], [f64; 3]), GeodesicError> + 'a;
+/// `miss(i, j, s)`: what the construction misses of the edge from local vertex i to j at
+/// fraction s (zero at both vertices).
+type Miss<'a> = dyn Fn(usize, usize, f64) -> Result<[f64; 3], GeodesicError> + 'a;
 
 /// The paper's Eq. (6): a triangle's interior node from three geodesics of constant
-/// barycentric coordinate, averaged and projected onto the surface.
-pub(super) fn triangle_node(
+/// barycentric coordinate, averaged — plus the blended misses of the `corrected` edges —
+/// and projected onto the surface.
+fn triangle_node(
     geometry: &GeometryCharts,
     entity: usize,
     along: &Along,
+    miss: &Miss,
+    corrected: &[(usize, usize)],
     xi: [f64; 3],
 ) -> Result<[f64; 3], GeodesicError> {
     let (alpha, beta, gamma) = (1.0 - xi[0] - xi[1], xi[0], xi[1]);
@@ -146,28 +186,53 @@ pub(super) fn triangle_node(
         along(2, 1, 1.0 - gamma)?,
         beta / (beta + alpha),
     );
-    let mean = [
-        (xa.1[0] + xb.1[0] + xc.1[0]) / 3.0,
-        (xa.1[1] + xb.1[1] + xc.1[1]) / 3.0,
-        (xa.1[2] + xb.1[2] + xc.1[2]) / 3.0,
-    ];
-    Ok(project(geometry, entity, mean, xa.0))
+    let mut x = scale(add(add(xa.1, xb.1), xc.1), 1.0 / 3.0);
+    let lambda = [alpha, beta, gamma];
+    for &(i, j) in corrected {
+        if let Some((weight, fraction)) = edge_blend(lambda[i], lambda[j]) {
+            x = add(x, scale(miss(i, j, fraction)?, weight));
+        }
+    }
+    Ok(project(geometry, entity, x, xa.0))
+}
+
+/// The blend of an edge's miss d(s) into a triangle (edge from vertex a to b, barycentric
+/// coordinates λ_a, λ_b): (λ_a + λ_b) d(λ_b / (λ_a + λ_b)) — d itself on the edge, zero on
+/// the other two (where λ_a or λ_b vanishes, as d does at the vertices). `None` at the
+/// opposite vertex.
+fn edge_blend(lambda_a: f64, lambda_b: f64) -> Option<(f64, f64)> {
+    let weight = lambda_a + lambda_b;
+    (weight > 0.0).then(|| (weight, lambda_b / weight))
 }
 
 /// The paper's Eq. (7): a quadrilateral's interior node from the two geodesics of constant
-/// ξ and η, averaged and projected onto the surface.
-pub(super) fn quadrilateral_node(
+/// ξ and η, averaged — plus the blended misses of the `corrected` edges, each scaled by the
+/// distance from its opposite edge — and projected onto the surface.
+fn quadrilateral_node(
     geometry: &GeometryCharts,
     entity: usize,
     along: &Along,
+    miss: &Miss,
+    corrected: &[(usize, usize)],
     xi: [f64; 3],
 ) -> Result<[f64; 3], GeodesicError> {
     let (s, t) = (xi[0], xi[1]);
     // Vertices 0 (0,0), 1 (1,0), 2 (1,1), 3 (0,1).
     let x_s = geodesic_point(geometry, entity, along(0, 1, s)?, along(3, 2, s)?, t);
     let x_t = geodesic_point(geometry, entity, along(0, 3, t)?, along(1, 2, t)?, s);
-    let mean = scale(add(x_s.1, x_t.1), 0.5);
-    Ok(project(geometry, entity, mean, x_s.0))
+    let mut x = scale(add(x_s.1, x_t.1), 0.5);
+    for &(i, j) in corrected {
+        // Edge i → i + 1 (mod 4): its fraction at this node, and the node's distance from
+        // the opposite edge in the reference square.
+        let (weight, fraction) = match (i, j) {
+            (0, 1) => (1.0 - t, s),
+            (1, 2) => (s, t),
+            (2, 3) => (t, 1.0 - s),
+            _ => (1.0 - s, 1.0 - t),
+        };
+        x = add(x, scale(miss(i, j, fraction)?, weight));
+    }
+    Ok(project(geometry, entity, x, x_s.0))
 }
 
 /// Closest point of `entity` to `x` (Π_S in Eqs. (6), (7)), by Newton from `guess` on a

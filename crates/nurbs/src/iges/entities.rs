@@ -80,8 +80,9 @@ pub enum EntityData {
         type_number: i32,
         params: Vec<Param>,
     },
-    /// Entities without geometry that a conversion ignores: 402 associativity,
-    /// 406 property, 314 colour, 0 null.
+    /// Entities that a conversion ignores, having no curve or surface a mesh boundary
+    /// could lie on: 402 associativity, 406 property, 314 colour, 0 null, 116 point,
+    /// 202..=230 annotations, 312 text template, 404 drawing, 410 view.
     Ignored { type_number: i32 },
     /// Any other entity type; a conversion step reports it with its type and line.
     Unsupported { type_number: i32 },

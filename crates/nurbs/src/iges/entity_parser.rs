@@ -171,7 +171,10 @@ pub(crate) fn parse_entity(entity_type: i32, r: &mut Reader<'_>) -> Result<Entit
             type_number: entity_type,
             params: r.rest(),
         },
-        0 | 314 | 402 | 406 => EntityData::Ignored {
+        // Null, colour, associativity, property; points (OpenCASCADE writes the free
+        // vertices of a model as 116: nothing a mesh boundary lies on); annotations
+        // (dimensions, notes, labels, 202..=230), text templates, drawings and views.
+        0 | 116 | 202..=230 | 312 | 314 | 402 | 404 | 406 | 410 => EntityData::Ignored {
             type_number: entity_type,
         },
         t => EntityData::Unsupported { type_number: t },

@@ -491,6 +491,24 @@ fn elliptic_arc_and_restricted_b_splines() {
 }
 
 #[test]
+fn points_and_annotations_are_ignored() {
+    // OpenCASCADE writes a model's free vertices as independent 116 points; a CAD system may
+    // add a general note (212): neither holds a boundary, the line is still converted.
+    let text = build(
+        GLOBAL,
+        &[
+            ent(116, "116,1.,2.,3.,0;"),
+            ent(110, "110,0.,0.,0.,1.,0.,0.;"),
+            ent(212, "212,0;"),
+        ],
+    );
+    let model = convert_text(&text).unwrap();
+    assert_eq!(model.entities.len(), 1);
+    let line = curve(&model.entities[0]);
+    assert!(distance(line.point(line.domain().1), [1.0, 0.0, 0.0]) < 1e-15);
+}
+
+#[test]
 fn unsupported_entities_name_their_type_and_line() {
     // an independent 186 (manifold solid B-rep)
     let text = build(
