@@ -381,6 +381,8 @@ impl Attempt {
             min_edge_angle_degrees: targets.min_edge_angle_degrees,
             corrections_undone: undone_corrections,
             edges_split: 0,
+            refinement_rounds: 0,
+            refined_elements: 0,
             quadrilaterals_split: 0,
             doubly_curved_cells: Vec::new(),
             doubly_curved_cell_tags: Vec::new(),

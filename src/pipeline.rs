@@ -13,6 +13,7 @@
 //! 5. the quality is measured and certified (`certification`: Eq. (8) and Bézier bounds),
 //!    and elements not certified are repaired ([`crate::repair`]).
 
+use std::collections::BTreeSet;
 use std::time::Instant;
 
 use hocurve_elastic::{ElasticError, Material, SolverOptions};
@@ -226,7 +227,88 @@ pub struct CurvedMesh {
 /// it: a correction is kept only if every element on its edge is better certified with it,
 /// and the result is never worse certified than without corrections (so at most three
 /// curvings). Elements still not certified are then untangled ([`crate::repair`]).
+/// Simplices that even that leaves uncertified have their longest chord split (an edge
+/// between two boundary vertices through the domain, see
+/// [`crate::precurving::longest_chords`]) and the split mesh is curved again, up to
+/// [`REFINEMENT_ROUNDS`] times, kept while it certifies more elements (or as many with a
+/// higher certified minimum); so are those certified below [`REFINE_BELOW`].
 pub fn curve_mesh(
+    linear: &LinearMesh,
+    geometry: Option<Geometry>,
+    options: &CurveOptions,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<CurvedMesh, CurveError> {
+    let start = Instant::now();
+    let mut curved = curve_mesh_once(linear, geometry, options, progress)?;
+    let refining = geometry.is_some()
+        && options.order > 1
+        && options.certify
+        && options.untangle
+        && !options.boundary_only;
+    // Elements left uncertified, or certified below REFINE_BELOW; a result is better with
+    // fewer uncertified elements, then a higher certified minimum.
+    let poor = |q: &MeshQuality| -> Vec<usize> {
+        let mut cells: BTreeSet<usize> = crate::repair::not_certified(q).into_iter().collect();
+        let bounds = certified_scaled_jacobians(q);
+        cells.extend((0..bounds.len()).filter(|&e| bounds[e] < REFINE_BELOW));
+        cells.into_iter().collect()
+    };
+    let score = |q: &MeshQuality| {
+        let minimum = certified_scaled_jacobians(q)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        (crate::repair::not_certified(q).len(), -minimum)
+    };
+    for _ in 0..REFINEMENT_ROUNDS {
+        let failing = poor(&curved.quality);
+        if !refining || failing.is_empty() {
+            break;
+        }
+        let base = curved.split_input.as_ref().unwrap_or(linear);
+        let chords = crate::precurving::longest_chords(base, &failing);
+        let (split, count) = base.split_edges(&chords);
+        if count == 0 {
+            break;
+        }
+        progress(Progress::Step(Step::Refinement));
+        let mut again = curve_mesh_once(&split, geometry, options, progress)?;
+        let (now, before) = (score(&again.quality), score(&curved.quality));
+        if now.0 > before.0 || (now.0 == before.0 && now.1 >= before.1) {
+            break;
+        }
+        let before = &curved.report;
+        again.report.edges_split += before.edges_split + count;
+        again.report.quadrilaterals_split += before.quadrilaterals_split;
+        again.report.unused_node_tags = before.unused_node_tags.clone();
+        // The discarded curving is repair work.
+        again.report.timings.repair += before.timings.total;
+        again.report.refinement_rounds = before.refinement_rounds + 1;
+        again.report.refined_elements = if before.refinement_rounds == 0 {
+            failing.len()
+        } else {
+            before.refined_elements
+        };
+        if again.split_input.is_none() {
+            again.split_input = Some(split);
+        }
+        curved = again;
+    }
+    curved.report.timings.total = start.elapsed().as_secs_f64();
+    Ok(curved)
+}
+
+/// Rounds of splitting the chords of uncertified elements and curving again (each costs
+/// about one curving of the mesh).
+pub const REFINEMENT_ROUNDS: usize = 2;
+
+/// Elements certified valid but below this scaled-Jacobian bound after every repair are
+/// refined too: valid, but so close to folding (a solver's quadrature sees a near-zero
+/// det J) that the cost of one more curving is worth it. A third of the default
+/// `--reshape-below`, whose reshaping has already run on them.
+pub const REFINE_BELOW: f64 = 0.1;
+
+/// [`curve_mesh`] without the refinement of elements no repair certified.
+fn curve_mesh_once(
     linear: &LinearMesh,
     geometry: Option<Geometry>,
     options: &CurveOptions,

@@ -140,6 +140,64 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
     edges.into_iter().collect()
 }
 
+/// For each simplex among `cells` (positions in `linear`), its longest chord: an edge
+/// between two vertices of declared facets that lies on no declared facet, so that it runs
+/// through the domain. Such an edge is what curving squeezes: a cell whose edges on a curved
+/// surface meet at a corner of one of its inner faces (or whose faces lie on two surfaces
+/// near their junction) folds there when the surface bends towards the chord, and
+/// splitting the chord at its midpoint (an interior vertex, off the boundary) gives two
+/// cells with half the span each. Lower vertex id first, sorted, no repeats.
+pub(crate) fn longest_chords(linear: &LinearMesh, cells: &[usize]) -> Vec<[u32; 2]> {
+    let mut on_boundary = vec![false; linear.vertices.len()];
+    let mut facet_edges = BTreeSet::new();
+    for f in &linear.facets {
+        for &v in &f.vertices {
+            if let Some(b) = on_boundary.get_mut(v as usize) {
+                *b = true;
+            }
+        }
+        let n = f.vertices.len();
+        for k in 0..n {
+            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+            facet_edges.insert([a.min(b), a.max(b)]);
+        }
+    }
+    let boundary = |v: u32| on_boundary.get(v as usize).copied().unwrap_or(false);
+    let mut edges = BTreeSet::new();
+    for &c in cells {
+        let Some(cell) = linear.cells.get(c) else {
+            continue;
+        };
+        if !matches!(
+            cell.kind,
+            hocurve_mesh::Shape::Tri | hocurve_mesh::Shape::Tet
+        ) {
+            continue;
+        }
+        let v = &cell.vertices;
+        let mut best: Option<(f64, [u32; 2])> = None;
+        for i in 0..v.len() {
+            for j in i + 1..v.len() {
+                let (a, b) = (v[i].min(v[j]), v[i].max(v[j]));
+                if !boundary(a) || !boundary(b) || facet_edges.contains(&[a, b]) {
+                    continue;
+                }
+                let (pa, pb) = (linear.vertices[a as usize], linear.vertices[b as usize]);
+                let length = (0..3).map(|d| (pa[d] - pb[d]).powi(2)).sum::<f64>();
+                // Ties go to the lower pair: the choice does not depend on the order of
+                // the cell's vertices.
+                if best.is_none_or(|(l, e)| length > l || (length == l && [a, b] < e)) {
+                    best = Some((length, [a, b]));
+                }
+            }
+        }
+        if let Some((_, e)) = best {
+            edges.insert(e);
+        }
+    }
+    edges.into_iter().collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -198,5 +256,32 @@ mod tests {
             &association(vec![Some(0), Some(0), None]),
         );
         assert!(edges.is_empty());
+    }
+
+    #[test]
+    fn the_longest_chord_of_a_cell_is_its_longest_edge_through_the_domain() {
+        // The unit tet 0 (origin), 1, 2, 3 (unit axes) with its facet 0 1 2 declared, and
+        // vertex 3 on a declared facet of a neighbour: the chords are 0 3, 1 3 and 2 3
+        // (both ends on the boundary, on no facet), and 1 3, 2 3 (length √2) beat 0 3
+        // (length 1); the tie goes to the lower pair.
+        let facet = |v: [u32; 3]| Element {
+            kind: Shape::Tri,
+            vertices: v.to_vec(),
+            entity: 1,
+        };
+        let mut mesh = hocurve_testmeshes::unit_tet();
+        mesh.vertices.extend([[1.0, 1.0, 1.0], [0.0, 1.0, 1.0]]);
+        mesh.facets = vec![facet([0, 1, 2]), facet([3, 4, 5])];
+        assert_eq!(longest_chords(&mesh, &[0]), vec![[1, 3]]);
+        // The same cell with its vertices listed in another order: the same chord.
+        let mut turned = mesh.clone();
+        turned.cells[0].vertices = vec![3, 2, 1, 0];
+        assert_eq!(longest_chords(&turned, &[0]), vec![[1, 3]]);
+        // Vertex 3 inside the domain: every edge through the domain has an interior end.
+        mesh.facets.truncate(1);
+        assert!(longest_chords(&mesh, &[0]).is_empty());
+        // Cells not asked about, or out of range, give nothing.
+        assert!(longest_chords(&turned, &[]).is_empty());
+        assert!(longest_chords(&turned, &[7]).is_empty());
     }
 }

@@ -19,6 +19,8 @@ pub enum Step {
     Quality,
     /// Repairing the elements not certified valid.
     Repair,
+    /// Splitting the longest chords of elements no repair certified, to curve again.
+    Refinement,
     /// Writing the outputs (the caller's step, see [`crate::job`]).
     Writing,
 }
@@ -29,6 +31,7 @@ impl Step {
         match self {
             Step::HighOrderNodes => "placing high-order nodes",
             Step::Repair => "repairing elements not certified valid",
+            Step::Refinement => "splitting edges of elements not certified, curving again",
             Step::Writing => "writing the mesh",
             Step::Association => "associating the boundary with the geometry",
             Step::BoundaryNodes => "placing boundary nodes on the geometry",

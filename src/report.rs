@@ -109,9 +109,17 @@ pub struct CurveReport {
     pub reshaped_from: Option<f64>,
     /// The threshold of the reshaping (0: off).
     pub reshape_below: f64,
-    /// Interior edges split before curving (the input cells holding them had two facets on
-    /// one curved entity, which curving would open to a 180° corner with det J = 0).
+    /// Interior edges split: before curving, those opposite the corner of two facets of a
+    /// cell on one curved entity (curving would open it to 180°, det J = 0); after it, the
+    /// longest chords of cells no repair certified (see `refinement_rounds`).
     pub edges_split: usize,
+    /// Rounds of splitting the longest chords of elements no repair certified and curving
+    /// again (at most [`crate::pipeline::REFINEMENT_ROUNDS`]); their edges count in
+    /// `edges_split`.
+    pub refinement_rounds: usize,
+    /// Elements that started the first refinement round: not certified, or certified below
+    /// [`crate::pipeline::REFINE_BELOW`], after every repair of the first curving.
+    pub refined_elements: usize,
     /// Quadrilaterals split into two triangles before curving (two of their edges, meeting
     /// at a corner, lay on one curved entity: curved, that corner opens to 180°).
     pub quadrilaterals_split: usize,

@@ -98,10 +98,18 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
         ));
     }
     if r.edges_split > 0 {
-        adjustments.push(format!(
-            "{} interior edge(s) split (cells with two facets on one curved entity)",
-            r.edges_split
-        ));
+        adjustments.push(if r.refinement_rounds > 0 {
+            format!(
+                "{} interior edge(s) split (cells with two facets on one curved entity; \
+                 longest chords of cells no repair certified, {} round(s) of curving again)",
+                r.edges_split, r.refinement_rounds
+            )
+        } else {
+            format!(
+                "{} interior edge(s) split (cells with two facets on one curved entity)",
+                r.edges_split
+            )
+        });
     }
     if !adjustments.is_empty() {
         rows.push(("adjustments", adjustments.join("; ")));
@@ -132,6 +140,15 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
         },
     ));
     let mut repair = Vec::new();
+    if r.refinement_rounds > 0 {
+        repair.push(format!(
+            "{} element(s) left not certified or below Ĩ {:.2} by every repair: their longest \
+             chords split and the mesh curved again ({} round(s))",
+            r.refined_elements,
+            crate::pipeline::REFINE_BELOW,
+            r.refinement_rounds
+        ));
+    }
     if r.uncertified_after_solve > 0 {
         let steps = r.repair_steps();
         repair.push(format!(

@@ -192,3 +192,35 @@ fn coarse_parts_with_faces_bounded_by_feature_curves_certify_at_p5() {
         );
     }
 }
+
+/// A B-spline loft meshed coarsely (`fixtures/make_cad_fixtures.py`): at p = 3 one cell with
+/// all four vertices on the boundary, two of its edges on the dented side meeting at a
+/// corner of an inner face, stays invalid after the stiffened solve and the untangling
+/// (Ĩ ≥ −0.04). Its longest chord is split and the mesh curved again: all certify, the
+/// report and the file describe the split mesh.
+#[test]
+fn a_cell_no_repair_certifies_is_split_along_its_longest_chord_and_curved_again() {
+    let dir = tempfile::tempdir().unwrap();
+    let outputs = Outputs {
+        mesh: dir.path().join("loft.msh"),
+        report: None,
+        plots: None,
+        format: Default::default(),
+    };
+    let inputs = Inputs::read(
+        &fixture("twisted_loft.msh"),
+        Some(&fixture("twisted_loft.step")),
+    )
+    .unwrap();
+    let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |_| {}).unwrap();
+    assert!(finished.defects.is_empty(), "{:?}", finished.defects);
+    let r = &finished.curved.report;
+    assert_eq!(r.refinement_rounds, 1);
+    assert!(r.refined_elements >= 1);
+    assert_eq!(r.certified_valid_elements, Some(r.elements));
+    assert!(r.min_scaled_jacobian_lower_bound.unwrap() > 0.3);
+    assert!(r.elements > inputs.linear.cells.len());
+    let written = hocurve::io::read_high_order_mesh(&outputs.mesh).unwrap();
+    assert_eq!(written.cells.len(), r.elements);
+    assert!(r.max_geometry_distance < 1e-12);
+}

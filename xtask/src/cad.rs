@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 23] = [
+const CASES: [Case; 24] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -193,6 +193,15 @@ const CASES: [Case; 23] = [
     Case {
         name: "tee_pipes",
         geometry: "igs",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // A cell at p = 2..5 that only splitting its longest chord certifies.
+    Case {
+        name: "twisted_loft",
+        geometry: "step",
         group: "wall",
         full_only: false,
         orders: 2..=5,
