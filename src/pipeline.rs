@@ -158,6 +158,10 @@ pub struct CurveOptions {
     /// cell's stiffness scaled by 1/|J| of its straight shape (see
     /// [`crate::repair::jacobian_stiffening`]) before untangling; needs `certify`.
     pub stiffen: bool,
+    /// Split the longest chord of each simplex no repair certified (or certified below
+    /// [`REFINE_BELOW`], when `reshape_below` is not lower) and curve the split mesh again
+    /// (see [`curve_mesh`]); needs `certify`.
+    pub refine: bool,
     /// Move the thin cells stacked on curved walls (boundary-layer columns of hexahedra,
     /// prisms, quadrilaterals) with the wall rather than solving for them (see
     /// [`crate::layer_columns`]); false solves the whole boundary layer by elasticity.
@@ -192,6 +196,7 @@ impl CurveOptions {
             certify: true,
             untangle: true,
             stiffen: true,
+            refine: true,
             layer_columns: true,
             layer_stiffening: true,
             reshape_below: crate::repair::RESHAPE_BELOW,
@@ -243,14 +248,16 @@ pub fn curve_mesh(
     let refining = geometry.is_some()
         && options.order > 1
         && options.certify
-        && options.untangle
+        && options.refine
         && !options.boundary_only;
+    // Valid elements are refined below this only when the user lets poor ones be reshaped.
+    let floor = REFINE_BELOW.min(options.reshape_below);
     // Elements left uncertified, or certified below REFINE_BELOW; a result is better with
     // fewer uncertified elements, then a higher certified minimum.
     let poor = |q: &MeshQuality| -> Vec<usize> {
         let mut cells: BTreeSet<usize> = crate::repair::not_certified(q).into_iter().collect();
         let bounds = certified_scaled_jacobians(q);
-        cells.extend((0..bounds.len()).filter(|&e| bounds[e] < REFINE_BELOW));
+        cells.extend((0..bounds.len()).filter(|&e| bounds[e] < floor));
         cells.into_iter().collect()
     };
     let score = |q: &MeshQuality| {
@@ -304,7 +311,8 @@ pub const REFINEMENT_ROUNDS: usize = 2;
 /// Elements certified valid but below this scaled-Jacobian bound after every repair are
 /// refined too: valid, but so close to folding (a solver's quadrature sees a near-zero
 /// det J) that the cost of one more curving is worth it. A third of the default
-/// `--reshape-below`, whose reshaping has already run on them.
+/// `--reshape-below`, whose reshaping has already run on them; a lower `--reshape-below`
+/// lowers it (0: poorly shaped valid elements are kept as they are).
 pub const REFINE_BELOW: f64 = 0.1;
 
 /// [`curve_mesh`] without the refinement of elements no repair certified.

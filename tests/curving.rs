@@ -712,6 +712,8 @@ fn thin_wall_annuli(
                 let mut options = CurveOptions::new(p);
                 options.stiffen = false;
                 options.untangle = false;
+                // Each repair on its own: no refinement (it changes the mesh).
+                options.refine = false;
                 // The repair is tested from the paper's uniform material (these layers
                 // would otherwise be stiffened from the start).
                 options.layer_stiffening = false;

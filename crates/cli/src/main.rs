@@ -175,7 +175,9 @@ struct MethodArgs {
     no_certify: bool,
     /// Do not repair elements the certification finds invalid (by default the mesh is solved
     /// again with small cells stiffer, then the free nodes around what is still invalid are
-    /// untangled, boundary nodes held on the geometry); they then end the run with exit 1.
+    /// untangled, boundary nodes held on the geometry, and as a last resort the longest
+    /// chord of each cell left is split and the mesh curved again); they then end the run
+    /// with exit 1.
     #[arg(long)]
     no_repair: bool,
     /// Run even when the estimated peak memory exceeds this machine's memory.
@@ -438,6 +440,7 @@ impl MethodArgs {
         options.certify = !self.no_certify;
         options.untangle = !self.no_repair;
         options.stiffen = !self.no_repair;
+        options.refine = !self.no_repair;
         Ok(JobOptions {
             curve: options,
             allow_invalid,
