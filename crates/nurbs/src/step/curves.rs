@@ -172,6 +172,24 @@ impl<'a> Converter<'a> {
         self.bounded_curve(basis, a, b, same_sense, false)
     }
 
+    /// The curve a surface of revolution or of linear extrusion sweeps: a B-spline curve, a
+    /// trimmed curve, or a whole circle or ellipse (OpenCASCADE writes the side of an
+    /// extruded disk as an ellipse of equal semi-axes swept along its axis), starting
+    /// where its placement's x axis points.
+    pub(super) fn swept_curve(&self, i: &StepInstance) -> Result<NurbsCurve, StepError> {
+        match i.type_name().as_str() {
+            "CIRCLE" | "ELLIPSE" => {
+                let q = self.params(i, 3)?;
+                let f = self.placement(&q[1], i)?;
+                let r1 = self.length(&q[2], i, "radius")?;
+                let start = add(f.origin, scale(f.x, r1));
+                self.bounded_curve(i, start, start, true, true)
+            }
+            "TRIMMED_CURVE" => self.trimmed_curve(i),
+            _ => self.free_curve(i),
+        }
+    }
+
     /// A bounded curve on its own (B-spline curves), for edges and swept surfaces.
     pub(super) fn free_curve(&self, i: &StepInstance) -> Result<NurbsCurve, StepError> {
         let Some(spline) = i.record("B_SPLINE_CURVE_WITH_KNOTS") else {

@@ -199,7 +199,7 @@ impl<'a> Converter<'a> {
             }
             "SURFACE_OF_REVOLUTION" => {
                 let p = self.params(s, 3)?;
-                let g = self.free_curve(self.basis_curve(&p[1], s, 0)?)?;
+                let g = self.swept_curve(self.basis_curve(&p[1], s, 0)?)?;
                 let axis = self.get(&p[2], s)?;
                 self.expect_type(axis, "AXIS1_PLACEMENT")?;
                 let q = self.params(axis, 2)?;
@@ -216,7 +216,7 @@ impl<'a> Converter<'a> {
             }
             "SURFACE_OF_LINEAR_EXTRUSION" => {
                 let p = self.params(s, 3)?;
-                let g = self.free_curve(self.basis_curve(&p[1], s, 0)?)?;
+                let g = self.swept_curve(self.basis_curve(&p[1], s, 0)?)?;
                 let v = self.vector(&p[2], s)?;
                 let length = norm(v);
                 if length.is_nan() || length <= 0.0 {

@@ -307,3 +307,41 @@ fn rectangular_trimmed_surfaces_are_their_basis() {
         .count();
     assert_eq!(spheres, 1);
 }
+
+/// OpenCASCADE writes the side of an extruded disk as a surface of linear extrusion whose
+/// swept curve is a whole ELLIPSE with equal semi-axes: converted, it is the cylinder
+/// r = 1 between z = 0 and z = 1, closed around.
+#[test]
+fn an_extrusion_of_a_whole_ellipse_is_the_cylinder() {
+    let text = std::fs::read_to_string(fixture("extruded_disk.step")).unwrap();
+    assert!(text.contains("ELLIPSE('',#34,1.,1.)"));
+    let model = geometry_from_step(&parse_step(text.as_bytes()).unwrap()).unwrap();
+    let mut sides = 0;
+    for e in &model.entities {
+        let EntityGeometry::Surface(s) = &e.geometry else {
+            continue;
+        };
+        let points = samples(s);
+        if points
+            .iter()
+            .all(|p| p[2].abs() < 1e-12 || (p[2] - 1.0).abs() < 1e-12)
+        {
+            continue; // a cap
+        }
+        sides += 1;
+        for p in &points {
+            assert!((p[0].hypot(p[1]) - 1.0).abs() < 1e-14, "{p:?}");
+            assert!(p[2] > -1e-12 && p[2] < 1.0 + 1e-12, "{p:?}");
+        }
+        // All the way round: points near (±1, 0) and (0, ±1).
+        for axis in [[1.0, 0.0], [-1.0, 0.0], [0.0, 1.0], [0.0, -1.0]] {
+            assert!(
+                points
+                    .iter()
+                    .any(|p| p[0] * axis[0] + p[1] * axis[1] > 0.99),
+                "{axis:?}"
+            );
+        }
+    }
+    assert_eq!(sides, 1);
+}
