@@ -231,28 +231,74 @@ pub struct CurvedMesh {
 /// When the minimum-angle correction (Fig. 4) rebuilt edges, the mesh is also curved without
 /// it: a correction is kept only if every element on its edge is better certified with it,
 /// and the result is never worse certified than without corrections (so at most three
-/// curvings). Elements still not certified are then untangled ([`crate::repair`]).
-/// Simplices that even that leaves uncertified have their longest chord split (an edge
-/// between two boundary vertices through the domain, see
-/// [`crate::precurving::longest_chords`]) and the split mesh is curved again, up to
-/// [`REFINEMENT_ROUNDS`] times, kept while it certifies more elements (or as many with a
-/// higher certified minimum); so are those certified below [`REFINE_BELOW`].
+/// curvings). Elements still not certified after the solve (and a stiffened solve) are
+/// refined when each is a simplex with a chord — an edge between two boundary vertices
+/// through the domain ([`crate::precurving::longest_chords`]): its longest chord is split
+/// and the split mesh curved again, up to [`REFINEMENT_ROUNDS`] times; otherwise, or when
+/// the split mesh does not certify, they are untangled ([`crate::repair`]). Elements still
+/// not certified after that, or certified below [`REFINE_BELOW`], are refined the same
+/// way, the result kept while it certifies more elements (or as many with a higher
+/// certified minimum).
 pub fn curve_mesh(
     linear: &LinearMesh,
     geometry: Option<Geometry>,
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<CurvedMesh, CurveError> {
+    refine_and_curve(linear, geometry, options, progress, REFINEMENT_ROUNDS)
+}
+
+/// [`curve_mesh`] with `rounds` rounds of refinement left. When every element left
+/// uncertified by the (stiffened) solve has a chord, the chords are split before any
+/// untangling: curving the split mesh costs about one solve, untangling high-order patches
+/// can cost a hundred (a coarse ellipsoid at p = 4: 21 s of untangling that failed, then
+/// 0.5 s to curve the split mesh). Only if the split mesh does not certify is the input
+/// mesh untangled after all.
+fn refine_and_curve(
+    linear: &LinearMesh,
+    geometry: Option<Geometry>,
+    options: &CurveOptions,
+    progress: &mut dyn FnMut(Progress),
+    rounds: usize,
+) -> Result<CurvedMesh, CurveError> {
     let start = Instant::now();
-    let mut curved = curve_mesh_once(linear, geometry, options, progress)?;
     let refining = geometry.is_some()
         && options.order > 1
         && options.certify
         && options.refine
         && !options.boundary_only;
+    let mut curved =
+        match curve_mesh_once(linear, geometry, options, progress, refining && rounds > 0)? {
+            Once::Curved(curved) => *curved,
+            Once::Deferred(deferred) => {
+                let chords = crate::precurving::longest_chords(&deferred.base, &deferred.cells);
+                let (split, count) = deferred.base.split_edges(&chords);
+                progress(Progress::Step(Step::Refinement));
+                let mut again = refine_and_curve(&split, geometry, options, progress, rounds - 1)?;
+                if crate::repair::not_certified(&again.quality).is_empty() {
+                    let r = &mut again.report;
+                    r.edges_split += deferred.edges_split + count;
+                    r.quadrilaterals_split += deferred.quadrilaterals_split;
+                    r.unused_node_tags = deferred.unused_node_tags;
+                    r.timings.repair += deferred.seconds;
+                    r.refinement_rounds += 1;
+                    r.refined_elements = deferred.cells.len();
+                    r.timings.total = start.elapsed().as_secs_f64();
+                    if again.split_input.is_none() {
+                        again.split_input = Some(split);
+                    }
+                    return Ok(again);
+                }
+                // The split mesh does not certify either: the input's own repair after all.
+                match curve_mesh_once(linear, geometry, options, progress, false)? {
+                    Once::Curved(curved) => *curved,
+                    Once::Deferred(_) => unreachable!("nothing is deferred when not asked"),
+                }
+            }
+        };
     // Valid elements are refined below this only when the user lets poor ones be reshaped.
     let floor = REFINE_BELOW.min(options.reshape_below);
-    // Elements left uncertified, or certified below REFINE_BELOW; a result is better with
+    // Elements left uncertified, or certified below the floor; a result is better with
     // fewer uncertified elements, then a higher certified minimum.
     let poor = |q: &MeshQuality| -> Vec<usize> {
         let mut cells: BTreeSet<usize> = crate::repair::not_certified(q).into_iter().collect();
@@ -266,7 +312,7 @@ pub fn curve_mesh(
             .fold(f64::INFINITY, f64::min);
         (crate::repair::not_certified(q).len(), -minimum)
     };
-    for _ in 0..REFINEMENT_ROUNDS {
+    for _ in 0..rounds {
         let failing = poor(&curved.quality);
         if !refining || failing.is_empty() {
             break;
@@ -278,7 +324,11 @@ pub fn curve_mesh(
             break;
         }
         progress(Progress::Step(Step::Refinement));
-        let mut again = curve_mesh_once(&split, geometry, options, progress)?;
+        let Once::Curved(again) = curve_mesh_once(&split, geometry, options, progress, false)?
+        else {
+            unreachable!("nothing is deferred when not asked");
+        };
+        let mut again = *again;
         let (now, before) = (score(&again.quality), score(&curved.quality));
         if now.0 > before.0 || (now.0 == before.0 && now.1 >= before.1) {
             break;
@@ -315,13 +365,39 @@ pub const REFINEMENT_ROUNDS: usize = 2;
 /// lowers it (0: poorly shaped valid elements are kept as they are).
 pub const REFINE_BELOW: f64 = 0.1;
 
-/// [`curve_mesh`] without the refinement of elements no repair certified.
+/// What one curving ([`curve_mesh_once`]) ends with.
+enum Once {
+    /// The curved mesh, every repair done.
+    Curved(Box<CurvedMesh>),
+    /// The untangling was skipped: every element not certified after the solve has a
+    /// chord to split (see [`refine_and_curve`]).
+    Deferred(Box<Deferred>),
+}
+
+/// A curving stopped before its untangling.
+struct Deferred {
+    /// The mesh curved (the input, pruned and split before curving), and its cells not
+    /// certified.
+    base: LinearMesh,
+    cells: Vec<usize>,
+    /// What was done to the input before curving.
+    edges_split: usize,
+    quadrilaterals_split: usize,
+    unused_node_tags: Vec<u64>,
+    /// Seconds spent.
+    seconds: f64,
+}
+
+/// [`curve_mesh`] without the refinement of elements no repair certified; when `defer`, it
+/// stops before the untangling if every element not certified after the solve has a chord
+/// ([`crate::precurving::longest_chords`]).
 fn curve_mesh_once(
     linear: &LinearMesh,
     geometry: Option<Geometry>,
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
-) -> Result<CurvedMesh, CurveError> {
+    defer: bool,
+) -> Result<Once, CurveError> {
     let start = Instant::now();
     let mut timings = StepTimings::default();
     let mut association = None;
@@ -485,6 +561,23 @@ fn curve_mesh_once(
         }
     }
 
+    if defer {
+        let cells = crate::repair::not_certified(&quality);
+        let each_has_a_chord = cells
+            .iter()
+            .all(|&c| !crate::precurving::longest_chords(linear, &[c]).is_empty());
+        if !cells.is_empty() && each_has_a_chord {
+            return Ok(Once::Deferred(Box::new(Deferred {
+                base: linear.clone(),
+                cells,
+                edges_split: split_edges,
+                quadrilaterals_split,
+                unused_node_tags,
+                seconds: start.elapsed().as_secs_f64(),
+            })));
+        }
+    }
+
     let mut untangling = crate::repair::Untangling::default();
     let mut reshaping = crate::repair::Reshaping::default();
     if options.untangle && options.certify && !options.boundary_only && association.is_some() {
@@ -545,5 +638,5 @@ fn curve_mesh_once(
         curved.report.reshaped_elements = reshaping.elements;
         curved.report.reshaped_from = Some(reshaping.min_before);
     }
-    Ok(curved)
+    Ok(Once::Curved(Box::new(curved)))
 }

@@ -113,12 +113,13 @@ pub struct CurveReport {
     /// cell on one curved entity (curving would open it to 180°, det J = 0); after it, the
     /// longest chords of cells no repair certified (see `refinement_rounds`).
     pub edges_split: usize,
-    /// Rounds of splitting the longest chords of elements no repair certified and curving
-    /// again (at most [`crate::pipeline::REFINEMENT_ROUNDS`]); their edges count in
-    /// `edges_split`.
+    /// Rounds of splitting the longest chords of elements not certified (or certified
+    /// poorly) and curving again (at most [`crate::pipeline::REFINEMENT_ROUNDS`]); their
+    /// edges count in `edges_split`.
     pub refinement_rounds: usize,
-    /// Elements that started the first refinement round: not certified, or certified below
-    /// [`crate::pipeline::REFINE_BELOW`], after every repair of the first curving.
+    /// Elements that started the first refinement round: not certified after the
+    /// (stiffened) solve, each with a chord to split, or certified below
+    /// [`crate::pipeline::REFINE_BELOW`] after the repair of the first curving.
     pub refined_elements: usize,
     /// Quadrilaterals split into two triangles before curving (two of their edges, meeting
     /// at a corner, lay on one curved entity: curved, that corner opens to 180°).

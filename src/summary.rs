@@ -101,7 +101,7 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
         adjustments.push(if r.refinement_rounds > 0 {
             format!(
                 "{} interior edge(s) split (cells with two facets on one curved entity; \
-                 longest chords of cells no repair certified, {} round(s) of curving again)",
+                 longest chords of cells not certified, {} round(s) of curving again)",
                 r.edges_split, r.refinement_rounds
             )
         } else {
@@ -142,8 +142,8 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
     let mut repair = Vec::new();
     if r.refinement_rounds > 0 {
         repair.push(format!(
-            "{} element(s) left not certified or below Ĩ {:.2} by every repair: their longest \
-             chords split and the mesh curved again ({} round(s))",
+            "{} element(s) not certified after the solve, or certified below Ĩ {:.2} after \
+             the repair: their longest chords split and the mesh curved again ({} round(s))",
             r.refined_elements,
             crate::pipeline::REFINE_BELOW,
             r.refinement_rounds

@@ -196,8 +196,8 @@ fn coarse_parts_with_faces_bounded_by_feature_curves_certify_at_p5() {
 /// A B-spline loft meshed coarsely (`fixtures/make_cad_fixtures.py`): at p = 3 one cell with
 /// all four vertices on the boundary, two of its edges on the dented side meeting at a
 /// corner of an inner face, stays invalid after the stiffened solve and the untangling
-/// (Ĩ ≥ −0.04). Its longest chord is split and the mesh curved again: all certify, the
-/// report and the file describe the split mesh.
+/// (Ĩ ≥ −0.04). Its longest chord is split — before any untangling — and the mesh curved
+/// again: all certify, the report and the file describe the split mesh.
 #[test]
 fn a_cell_no_repair_certifies_is_split_along_its_longest_chord_and_curved_again() {
     let dir = tempfile::tempdir().unwrap();
@@ -212,10 +212,26 @@ fn a_cell_no_repair_certifies_is_split_along_its_longest_chord_and_curved_again(
         Some(&fixture("twisted_loft.step")),
     )
     .unwrap();
-    let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |_| {}).unwrap();
+    let mut steps = Vec::new();
+    let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |p| {
+        if let hocurve::progress::Progress::Step(step) = p {
+            steps.push(step);
+        }
+    })
+    .unwrap();
     assert!(finished.defects.is_empty(), "{:?}", finished.defects);
+    // Split before any untangling (which would cost far more than curving the split mesh):
+    // the one repair step before the refinement is the stiffened solve.
+    use hocurve::progress::Step;
+    let refinement = steps.iter().position(|&s| s == Step::Refinement).unwrap();
+    let repairs = steps[..refinement]
+        .iter()
+        .filter(|&&s| s == Step::Repair)
+        .count();
+    assert_eq!(repairs, 1, "{steps:?}");
     let r = &finished.curved.report;
     assert_eq!(r.refinement_rounds, 1);
+    assert_eq!(r.untangled_elements, 0);
     assert!(r.refined_elements >= 1);
     assert_eq!(r.certified_valid_elements, Some(r.elements));
     assert!(r.min_scaled_jacobian_lower_bound.unwrap() > 0.3);
