@@ -563,9 +563,9 @@ fn curve_mesh_once(
 
     if defer {
         let cells = crate::repair::not_certified(&quality);
-        let each_has_a_chord = cells
+        let each_has_a_chord = crate::precurving::longest_chord_of_each(linear, &cells)
             .iter()
-            .all(|&c| !crate::precurving::longest_chords(linear, &[c]).is_empty());
+            .all(Option::is_some);
         if !cells.is_empty() && each_has_a_chord {
             return Ok(Once::Deferred(Box::new(Deferred {
                 base: linear.clone(),

@@ -148,6 +148,16 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
 /// splitting the chord at its midpoint (an interior vertex, off the boundary) gives two
 /// cells with half the span each. Lower vertex id first, sorted, no repeats.
 pub(crate) fn longest_chords(linear: &LinearMesh, cells: &[usize]) -> Vec<[u32; 2]> {
+    let chords: BTreeSet<[u32; 2]> = longest_chord_of_each(linear, cells)
+        .into_iter()
+        .flatten()
+        .collect();
+    chords.into_iter().collect()
+}
+
+/// The longest chord (see [`longest_chords`]) of each of `cells`, in their order; `None`
+/// for a cell without one (or not a simplex, or out of range).
+pub(crate) fn longest_chord_of_each(linear: &LinearMesh, cells: &[usize]) -> Vec<Option<[u32; 2]>> {
     let mut on_boundary = vec![false; linear.vertices.len()];
     let mut facet_edges = BTreeSet::new();
     for f in &linear.facets {
@@ -163,16 +173,13 @@ pub(crate) fn longest_chords(linear: &LinearMesh, cells: &[usize]) -> Vec<[u32; 
         }
     }
     let boundary = |v: u32| on_boundary.get(v as usize).copied().unwrap_or(false);
-    let mut edges = BTreeSet::new();
-    for &c in cells {
-        let Some(cell) = linear.cells.get(c) else {
-            continue;
-        };
+    let chord = |c: usize| -> Option<[u32; 2]> {
+        let cell = linear.cells.get(c)?;
         if !matches!(
             cell.kind,
             hocurve_mesh::Shape::Tri | hocurve_mesh::Shape::Tet
         ) {
-            continue;
+            return None;
         }
         let v = &cell.vertices;
         let mut best: Option<(f64, [u32; 2])> = None;
@@ -191,11 +198,9 @@ pub(crate) fn longest_chords(linear: &LinearMesh, cells: &[usize]) -> Vec<[u32; 
                 }
             }
         }
-        if let Some((_, e)) = best {
-            edges.insert(e);
-        }
-    }
-    edges.into_iter().collect()
+        best.map(|(_, e)| e)
+    };
+    cells.iter().map(|&c| chord(c)).collect()
 }
 
 #[cfg(test)]
@@ -283,5 +288,9 @@ mod tests {
         // Cells not asked about, or out of range, give nothing.
         assert!(longest_chords(&turned, &[]).is_empty());
         assert!(longest_chords(&turned, &[7]).is_empty());
+        assert_eq!(
+            longest_chord_of_each(&turned, &[0, 7, 0]),
+            vec![Some([1, 3]), None, Some([1, 3])]
+        );
     }
 }
