@@ -174,10 +174,10 @@ struct MethodArgs {
     #[arg(long)]
     no_certify: bool,
     /// Do not repair elements the certification finds invalid (by default the mesh is solved
-    /// again with small cells stiffer, then the free nodes around what is still invalid are
-    /// untangled, boundary nodes held on the geometry, and as a last resort the longest
-    /// chord of each cell left is split and the mesh curved again); they then end the run
-    /// with exit 1.
+    /// again with small cells stiffer; then the longest chord of each cell left — an edge
+    /// through the domain between two boundary vertices — is split and the mesh curved
+    /// again, or where there is none the free nodes around it are untangled, boundary nodes
+    /// held on the geometry); they then end the run with exit 1.
     #[arg(long)]
     no_repair: bool,
     /// Run even when the estimated peak memory exceeds this machine's memory.
