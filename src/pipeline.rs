@@ -36,7 +36,7 @@ use crate::correction_choice::{
 };
 use crate::precurving::{
     cells_with_doubly_curved_edges, edges_opposite_doubly_curved_corners,
-    quadrilateral_corners_on_one_entity,
+    facet_edges_opposite_rim_corners, quadrilateral_corners_on_one_entity,
 };
 
 /// Errors of the curving pipeline: one step's error, or a problem with the request.
@@ -279,6 +279,7 @@ fn refine_and_curve(
                     let r = &mut again.report;
                     r.edges_split += deferred.edges_split + count;
                     r.quadrilaterals_split += deferred.quadrilaterals_split;
+                    r.surface_edges_split += deferred.surface_edges_split;
                     r.unused_node_tags = deferred.unused_node_tags;
                     r.timings.repair += deferred.seconds;
                     r.refinement_rounds += 1;
@@ -336,6 +337,7 @@ fn refine_and_curve(
         let before = &curved.report;
         again.report.edges_split += before.edges_split + count;
         again.report.quadrilaterals_split += before.quadrilaterals_split;
+        again.report.surface_edges_split += before.surface_edges_split;
         again.report.unused_node_tags = before.unused_node_tags.clone();
         // The discarded curving is repair work.
         again.report.timings.repair += before.timings.total;
@@ -383,6 +385,7 @@ struct Deferred {
     /// What was done to the input before curving.
     edges_split: usize,
     quadrilaterals_split: usize,
+    surface_edges_split: usize,
     unused_node_tags: Vec<u64>,
     /// Seconds spent.
     seconds: f64,
@@ -407,7 +410,9 @@ fn curve_mesh_once(
     let mut linear = if pruned_input { &pruned } else { linear };
     let split_input: LinearMesh;
     let quad_split: LinearMesh;
+    let rim_split: LinearMesh;
     let mut split_edges = 0;
+    let mut surface_edges_split = 0;
     let mut quadrilaterals_split = 0;
     let mut doubly_curved_cells = Vec::new();
     if let Some(geometry) = geometry {
@@ -444,6 +449,18 @@ fn curve_mesh_once(
             linear = &quad_split;
             found = associate(linear)?;
             quadrilaterals_split = count;
+        }
+        let rims = if curving {
+            facet_edges_opposite_rim_corners(linear, &found, geometry.model)
+        } else {
+            Vec::new()
+        };
+        let (split, count) = linear.split_edges_at(&rims);
+        if count > 0 {
+            rim_split = split;
+            linear = &rim_split;
+            found = associate(linear)?;
+            surface_edges_split = count;
         }
         let edges = if curving {
             edges_opposite_doubly_curved_corners(linear, &found)
@@ -572,6 +589,7 @@ fn curve_mesh_once(
                 cells,
                 edges_split: split_edges,
                 quadrilaterals_split,
+                surface_edges_split,
                 unused_node_tags,
                 seconds: start.elapsed().as_secs_f64(),
             })));
@@ -621,12 +639,13 @@ fn curve_mesh_once(
         curved.report.edges_split = split_edges;
     }
     curved.report.quadrilaterals_split = quadrilaterals_split;
+    curved.report.surface_edges_split = surface_edges_split;
     curved.report.doubly_curved_cell_tags = doubly_curved_cells
         .iter()
         .map(|&c| linear.cell_tag(c))
         .collect();
     curved.report.doubly_curved_cells = doubly_curved_cells;
-    if split_edges > 0 || quadrilaterals_split > 0 || pruned_input {
+    if split_edges > 0 || quadrilaterals_split > 0 || surface_edges_split > 0 || pruned_input {
         curved.split_input = Some(linear.clone());
     }
     curved.report.unused_node_tags = unused_node_tags;

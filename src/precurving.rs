@@ -2,7 +2,7 @@
 //! with two edges) on one curved entity meeting at a corner opens to a 180° angle there
 //! once curved, with det J = 0 whatever the interior nodes do.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use hocurve_mesh::LinearMesh;
 
@@ -138,6 +138,113 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
         }
     }
     edges.into_iter().collect()
+}
+
+/// The surface edges to split, with the new vertex on the surface, so that no boundary
+/// triangle has two edges on one feature curve: a coarsely split rim (a quarter-round of two
+/// segments) leaves a facet through the arc's ends and its middle vertex, whose two edges on
+/// the arc meet at 180° once curved — det J = 0 at that vertex in every cell on the facet,
+/// whatever the interior nodes do. Splitting the facet's third edge (a surface edge of one
+/// entity) at its midpoint moved onto the surface gives two facets with one rim edge each.
+///
+/// A corner qualifies when both its edges lie on the same set of two or more entities
+/// (the facets holding each edge) and its vertex on exactly that set, so that the vertex is
+/// inside their intersection curve, not a CAD corner. An edge is left alone when the moved
+/// midpoint would leave a cell around it with less than a hundredth of its volume in either
+/// half (a surface bending sharply over the edge). Lower vertex id first, sorted.
+pub(crate) fn facet_edges_opposite_rim_corners(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+    model: &hocurve_nurbs::GeometryModel,
+) -> Vec<([u32; 2], Option<[f64; 3]>)> {
+    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
+    let mut edge_entities: BTreeMap<[u32; 2], BTreeSet<usize>> = BTreeMap::new();
+    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
+        let (Some(e), 3) = (*e, f.vertices.len()) else {
+            continue;
+        };
+        for k in 0..3 {
+            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % 3]);
+            edge_entities.entry(key(a, b)).or_default().insert(e);
+        }
+    }
+    let entities_of = |a: u32, b: u32| edge_entities.get(&key(a, b));
+    let mut wanted: BTreeMap<[u32; 2], usize> = BTreeMap::new();
+    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
+        let (Some(surface), 3) = (*e, f.vertices.len()) else {
+            continue;
+        };
+        let v = &f.vertices;
+        for k in 0..3 {
+            let (c, a, b) = (v[k], v[(k + 1) % 3], v[(k + 2) % 3]);
+            let (Some(ea), Some(eb), Some(opposite)) =
+                (entities_of(c, a), entities_of(c, b), entities_of(a, b))
+            else {
+                continue;
+            };
+            let on_rim = ea.len() >= 2 && ea == eb;
+            let inside_rim = association
+                .vertex_entities
+                .get(&c)
+                .is_some_and(|list| list.iter().copied().eq(ea.iter().copied()));
+            if on_rim && inside_rim && opposite.len() == 1 && opposite.contains(&surface) {
+                wanted.insert(key(a, b), surface);
+            }
+        }
+    }
+    if wanted.is_empty() {
+        return Vec::new();
+    }
+    let mut positions: BTreeMap<[u32; 2], [f64; 3]> = wanted
+        .iter()
+        .map(|(&[a, b], &surface)| {
+            let (pa, pb) = (linear.vertices[a as usize], linear.vertices[b as usize]);
+            let mid = [
+                0.5 * (pa[0] + pb[0]),
+                0.5 * (pa[1] + pb[1]),
+                0.5 * (pa[2] + pb[2]),
+            ];
+            ([a, b], model.entities[surface].nearest_point(mid))
+        })
+        .collect();
+    // Keep only positions that leave both halves of every cell around the edge a fair
+    // share of its volume, with its orientation.
+    let mut keep: BTreeMap<[u32; 2], bool> = positions.keys().map(|&e| (e, true)).collect();
+    for cell in &linear.cells {
+        if cell.kind != hocurve_mesh::Shape::Tet || cell.vertices.len() != 4 {
+            continue;
+        }
+        let v = &cell.vertices;
+        for i in 0..4 {
+            for j in i + 1..4 {
+                let e = key(v[i], v[j]);
+                let Some(&q) = positions.get(&e) else {
+                    continue;
+                };
+                let x = |k: usize| linear.vertices[v[k] as usize];
+                let parent = tet_volume([x(0), x(1), x(2), x(3)]);
+                let with = |replaced: usize| {
+                    let mut p = [x(0), x(1), x(2), x(3)];
+                    p[replaced] = q;
+                    tet_volume(p)
+                };
+                let fair = |child: f64| child * parent.signum() >= 1e-2 * parent.abs();
+                if !(parent != 0.0 && fair(with(i)) && fair(with(j))) {
+                    keep.insert(e, false);
+                }
+            }
+        }
+    }
+    positions.retain(|e, _| keep.get(e).copied().unwrap_or(false));
+    positions.into_iter().map(|(e, q)| (e, Some(q))).collect()
+}
+
+/// Six times the signed volume of a tetrahedron.
+fn tet_volume(x: [[f64; 3]; 4]) -> f64 {
+    let d = |i: usize| [x[i][0] - x[0][0], x[i][1] - x[0][1], x[i][2] - x[0][2]];
+    let (a, b, c) = (d(1), d(2), d(3));
+    a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0])
+        + a[2] * (b[0] * c[1] - b[1] * c[0])
 }
 
 /// For each simplex among `cells` (positions in `linear`), its longest chord: an edge

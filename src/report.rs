@@ -124,6 +124,10 @@ pub struct CurveReport {
     /// Quadrilaterals split into two triangles before curving (two of their edges, meeting
     /// at a corner, lay on one curved entity: curved, that corner opens to 180°).
     pub quadrilaterals_split: usize,
+    /// Boundary edges split before curving, the new vertex on their surface: the third edge
+    /// of a facet whose other two lie on one feature curve (a coarsely split rim), which
+    /// would meet at 180° once curved.
+    pub surface_edges_split: usize,
     /// Hexahedra and prisms (indices into the curved mesh's cells) with two faces on one
     /// curved entity meeting along an edge: not split (it would not be conforming), they
     /// get det J = 0 along that edge and cannot be certified. Not in the JSON, which

@@ -111,6 +111,12 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             )
         });
     }
+    if r.surface_edges_split > 0 {
+        adjustments.push(format!(
+            "{} surface edge(s) split (facets with two edges on one feature curve)",
+            r.surface_edges_split
+        ));
+    }
     if !adjustments.is_empty() {
         rows.push(("adjustments", adjustments.join("; ")));
     }

@@ -3,7 +3,8 @@
 
     target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs|.step) GROUP [--distance-only]
 
-- Every node of every boundary element of physical group GROUP (the curved wall) lies on
+- Every node of every boundary element of physical group GROUP (the curved wall; `*`: of
+  every boundary element in the file) lies on
   the geometry: for a JSON sphere, | |x - c| - r | (a cylinder: its radial distance minus r;
   a circle: the same in the plane);
   for IGES and STEP, the distance to the nearest
@@ -59,6 +60,14 @@ def main():
 
 
 def group_nodes(name):
+    if name == "*":
+        # Every boundary element the file holds (meshes without physical groups).
+        nodes = set()
+        for dim, entity in gmsh.model.getEntities(gmsh.model.getDimension() - 1):
+            _, _, element_nodes = gmsh.model.mesh.getElements(dim, entity)
+            for block in element_nodes:
+                nodes.update(int(n) for n in block)
+        return nodes
     for dim, tag in gmsh.model.getPhysicalGroups():
         if gmsh.model.getPhysicalName(dim, tag) == name:
             nodes = set()

@@ -13,6 +13,12 @@
 //!    below the tolerance, a facet of an end plane spans the layer with two vertices on the
 //!    wall's boundary edge and two at distance h = its own shortest edge (a facet lying on
 //!    the surface is off it by the CAD–mesh mismatch, a tiny fraction of its edges).
+//!    Among the entities that pass, the one nearest the facet's centre (its worst vertex
+//!    distance when larger) wins: a facet with every vertex on the rim where a plane meets a
+//!    cylinder — three points of a coarsely split quarter-round, one of them the arc's middle
+//!    — is on both by its vertices, but spans the plane (centre on it) and cuts through the
+//!    cylinder (centre a sagitta inside it). Taking the cylinder would make the facet's
+//!    chord a feature edge and lay it along the whole arc.
 //!
 //! Facets left over stay straight and are counted. A vertex of an associated facet farther
 //! than the tolerance from its entity is an error; a vertex within it is moved onto the
@@ -165,14 +171,21 @@ pub fn associate_boundary(
             let mut best: Option<(f64, usize)> = None;
             let reach =
                 tolerance.min(PROXIMITY_EDGE_FRACTION * shortest_edge(mesh, &facet.vertices));
+            let centre = centroid(mesh, &facet.vertices);
             for (k, &e) in candidates.iter().enumerate() {
                 let worst = facet
                     .vertices
                     .iter()
                     .map(|&v| row(v)[k])
                     .fold(0.0, f64::max);
-                if worst <= reach && best.is_none_or(|(d, _)| worst < d) {
-                    best = Some((worst, e));
+                if worst > reach {
+                    continue;
+                }
+                // Vertices on the curve where two surfaces meet are on both; the facet's
+                // centre tells which one the facet spans (see the module doc).
+                let score = worst.max(geometry.entities[e].distance(centre));
+                if best.is_none_or(|(d, _)| score < d) {
+                    best = Some((score, e));
                 }
             }
             if let Some((_, e)) = best {
@@ -241,6 +254,18 @@ pub fn associate_boundary(
         unassociated,
         max_vertex_move,
     })
+}
+
+/// The mean of a facet's vertices.
+fn centroid(mesh: &LinearMesh, vertices: &[u32]) -> [f64; 3] {
+    let mut c = [0.0; 3];
+    for &v in vertices {
+        let x = mesh.vertices[v as usize];
+        for d in 0..3 {
+            c[d] += x[d];
+        }
+    }
+    c.map(|s| s / vertices.len().max(1) as f64)
 }
 
 /// The shortest side of a facet (a segment, or a polygon through its vertices in order).

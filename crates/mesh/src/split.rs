@@ -19,9 +19,18 @@ impl LinearMesh {
     /// are skipped, as are edges that no longer exist (split by an earlier pair). Returns the
     /// new mesh and the number of edges split.
     pub fn split_edges(&self, edges: &[[u32; 2]]) -> (LinearMesh, usize) {
+        let at_midpoints: Vec<([u32; 2], Option<[f64; 3]>)> =
+            edges.iter().map(|&e| (e, None)).collect();
+        self.split_edges_at(&at_midpoints)
+    }
+
+    /// [`split_edges`](Self::split_edges) with the new vertex of each edge at the given
+    /// position (`None`: the midpoint) — a boundary edge's midpoint moved onto the surface
+    /// the edge lies on. The caller checks that the position keeps the split cells valid.
+    pub fn split_edges_at(&self, edges: &[([u32; 2], Option<[f64; 3]>)]) -> (LinearMesh, usize) {
         let mut mesh = self.clone();
         let mut split = 0;
-        for &[a, b] in edges {
+        for &([a, b], position) in edges {
             let holds = |e: &Element| e.vertices.contains(&a) && e.vertices.contains(&b);
             let holders = mesh.cells.iter().chain(&mesh.facets).filter(|e| holds(e));
             let mut any = false;
@@ -37,11 +46,11 @@ impl LinearMesh {
             let m = mesh.vertices.len() as u32;
             let cells_before = mesh.cells.len();
             let facets_before = mesh.facets.len();
-            mesh.vertices.push([
+            mesh.vertices.push(position.unwrap_or([
                 0.5 * (pa[0] + pb[0]),
                 0.5 * (pa[1] + pb[1]),
                 0.5 * (pa[2] + pb[2]),
-            ]);
+            ]));
             for list in [&mut mesh.cells, &mut mesh.facets] {
                 let mut second = Vec::new();
                 for e in list.iter_mut().filter(|e| holds(e)) {

@@ -421,3 +421,71 @@ mod placement {
         }
     }
 }
+
+/// A quarter-round split once: a triangle through the arc's two ends and its middle has every
+/// vertex on the rim where the plane z = 0 meets the unit cylinder, so on both surfaces; it
+/// lies in the plane (its centre a sagitta inside the cylinder). A triangle up the cylinder's
+/// side, two vertices on the rim, is on the cylinder. Listing the cylinder first would have
+/// won the tie by vertices alone.
+#[test]
+fn a_facet_with_every_vertex_on_a_rim_goes_to_the_surface_through_its_centre() {
+    use hocurve_mesh::{Element, Shape};
+    use hocurve_nurbs::shapes::cylinder;
+    use hocurve_nurbs::NurbsSurface;
+    use std::collections::BTreeMap;
+    use std::f64::consts::FRAC_PI_4;
+    let rim = |t: f64, z: f64| [t.cos(), t.sin(), z];
+    let triangle = |v: [u32; 3]| Element {
+        kind: Shape::Tri,
+        vertices: v.to_vec(),
+        entity: 1,
+    };
+    let mesh = LinearMesh {
+        dim: 3,
+        vertices: vec![
+            rim(0.0, 0.0),
+            rim(FRAC_PI_4, 0.0),
+            rim(2.0 * FRAC_PI_4, 0.0),
+            rim(0.0, 0.5),
+            [-1.5, -1.5, 1.5],
+        ],
+        cells: Vec::new(),
+        facets: vec![triangle([0, 1, 2]), triangle([0, 3, 1])],
+        physical_groups: Vec::new(),
+        entity_physicals: BTreeMap::new(),
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
+    };
+    let corner = |x: f64, y: f64| [x, y, 0.0];
+    let plane = NurbsSurface::new(
+        1,
+        1,
+        vec![0.0, 0.0, 1.0, 1.0],
+        vec![0.0, 0.0, 1.0, 1.0],
+        vec![
+            corner(-2.0, -2.0),
+            corner(-2.0, 2.0),
+            corner(2.0, -2.0),
+            corner(2.0, 2.0),
+        ],
+        vec![1.0; 4],
+    )
+    .expect("plane");
+    let model = GeometryModel {
+        entities: vec![
+            GeometricEntity::new(
+                "cylinder",
+                "test",
+                EntityGeometry::Surface(
+                    cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0, (-2.0, 2.0)).expect("cylinder"),
+                ),
+            ),
+            GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane)),
+        ],
+    };
+    let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None).expect("ok");
+    assert_eq!(a.facet_entity, [Some(1), Some(0)]);
+    assert_eq!(a.vertex_entities[&1], [0, 1], "on the rim: both surfaces");
+    assert_eq!(a.vertex_entities[&3], [0]);
+}

@@ -65,6 +65,16 @@ fn splitting_an_edge_halves_every_simplex_around_it_and_keeps_volume_and_orienta
 }
 
 #[test]
+fn a_split_vertex_goes_where_it_is_asked_to() {
+    let mesh = pair();
+    let (split, count) = mesh.split_edges_at(&[([0, 1], Some([0.5, -0.1, 0.0])), ([2, 3], None)]);
+    assert_eq!(count, 2);
+    assert_eq!(split.vertices[5], [0.5, -0.1, 0.0]);
+    assert_eq!(split.vertices[6], [0.0, 0.5, 0.5]);
+    assert_eq!(split.facets.len(), 2, "the facet 0 1 3 holds edge 0 1 only");
+}
+
+#[test]
 fn edges_that_do_not_exist_or_touch_non_simplices_are_not_split() {
     let mesh = pair();
     let (same, count) = mesh.split_edges(&[[3, 4]]);

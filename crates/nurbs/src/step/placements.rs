@@ -7,7 +7,7 @@ use std::collections::{BTreeMap, BTreeSet};
 
 use super::convert::{Converter, Frame, MAX_DEPTH};
 use super::error::StepError;
-use super::parse::{StepInstance, StepValue};
+use super::parse::{StepInstance, StepRecord, StepValue};
 use crate::iges::affine::{compose, Affine, IDENTITY};
 
 /// More occurrences than this of one item (nested instancing) are refused.
@@ -64,7 +64,15 @@ impl Converter<'_> {
         let mut classes: BTreeMap<u64, u64> = BTreeMap::new();
         let mut placed: Vec<(u64, u64, Affine, &StepInstance)> = Vec::new();
         for i in self.file.instances.values() {
-            let Some(r) = i.record("REPRESENTATION_RELATIONSHIP") else {
+            // Its subtypes name the same two representations: a shape representation
+            // relationship written on its own (`SHAPE_REPRESENTATION_RELATIONSHIP('', '',
+            // part, brep)`, as most CAD systems link a part to its B-rep) carries them in
+            // its own record; in a complex instance the supertype's record does.
+            let Some(r) = i.record("REPRESENTATION_RELATIONSHIP").or_else(|| {
+                i.records.iter().find(|r| {
+                    r.name.ends_with("REPRESENTATION_RELATIONSHIP") && r.params.len() >= 4
+                })
+            }) else {
                 continue;
             };
             let (Some(child), Some(parent)) = (
@@ -91,8 +99,20 @@ impl Converter<'_> {
                             self.fail(item, "ITEM_DEFINED_TRANSFORMATION needs two placements")
                         );
                     }
-                    let a = self.placement(&idt.params[2], item)?;
-                    let b = self.placement(&idt.params[3], item)?;
+                    // Each placement in the units of its own representation.
+                    let in_units_of = |rep: u64| -> Result<Converter<'_>, StepError> {
+                        let length = match self.file.instances.get(&rep) {
+                            Some(r) => self.representation_length(r)?,
+                            None => self.length,
+                        };
+                        Ok(Converter {
+                            file: self.file,
+                            length,
+                            angle: self.angle,
+                        })
+                    };
+                    let a = in_units_of(child)?.placement(&idt.params[2], item)?;
+                    let b = in_units_of(parent)?.placement(&idt.params[3], item)?;
                     placed.push((child, parent, frame_to_frame(&a, &b), i));
                 }
                 None => {
@@ -125,8 +145,14 @@ impl Converter<'_> {
             return Ok(out);
         }
         for (id, classes_of) in by_item {
+            // A placed part's B-rep is often also the item of a representation outside the
+            // assembly (a shape aspect's "solid data", Pro/E): that is not an occurrence.
+            let placed_somewhere = classes_of.iter().any(|c| parents.contains_key(c));
             let mut maps = Vec::new();
             for class in classes_of {
+                if placed_somewhere && !parents.contains_key(&class) {
+                    continue;
+                }
                 for t in self.class_maps(class, &parents, &mut memo, 0)? {
                     if !maps.contains(&t) {
                         maps.push(t);
@@ -144,14 +170,47 @@ impl Converter<'_> {
         Ok(out)
     }
 
-    /// The items of a representation (`NAME_REPRESENTATION(name, items, context)`).
-    fn representation_items<'i>(&self, i: &'i StepInstance) -> Option<&'i [StepValue]> {
+    /// The record of a representation (`NAME_REPRESENTATION(name, items, context)`).
+    fn representation_record<'i>(&self, i: &'i StepInstance) -> Option<&'i StepRecord> {
         i.records
             .iter()
             .find(|r| r.name.ends_with("_REPRESENTATION") || r.name == "REPRESENTATION")
             .filter(|r| r.name != "SHAPE_DEFINITION_REPRESENTATION")
+    }
+
+    /// The items of a representation.
+    fn representation_items<'i>(&self, i: &'i StepInstance) -> Option<&'i [StepValue]> {
+        self.representation_record(i)
             .and_then(|r| r.params.get(1))
             .and_then(StepValue::list)
+    }
+
+    /// The context of a representation, where its units are assigned.
+    pub(super) fn representation_context(&self, i: &StepInstance) -> Option<&StepInstance> {
+        self.representation_record(i)
+            .and_then(|r| r.params.get(2))
+            .and_then(StepValue::reference)
+            .and_then(|id| self.file.instances.get(&id))
+    }
+
+    /// The contexts of the representations that hold faces, edges or curves, each once.
+    pub(super) fn geometry_contexts(&self) -> Result<Vec<&StepInstance>, StepError> {
+        let mut out: Vec<&StepInstance> = Vec::new();
+        for i in self.file.instances.values() {
+            let Some(items) = self.representation_items(i) else {
+                continue;
+            };
+            let mut holds = false;
+            for item in items {
+                self.collect_items(item, i, 0, &mut |_| holds = true)?;
+            }
+            if let (true, Some(c)) = (holds, self.representation_context(i)) {
+                if !out.iter().any(|x| x.id == c.id) {
+                    out.push(c);
+                }
+            }
+        }
+        Ok(out)
     }
 
     /// Calls `found` with every face, edge and curve under `v` (through solids, shells,

@@ -26,24 +26,27 @@ const SI_PREFIXES: [(&str, i32); 16] = [
 ];
 
 impl Converter<'_> {
-    /// The size of the file's unit of `kind` (`LENGTH_UNIT`: in metres; `PLANE_ANGLE_UNIT`:
-    /// in radians) as its representation contexts assign it (`GLOBAL_UNIT_ASSIGNED_CONTEXT`),
-    /// None when they assign none. Contexts with different units are refused.
+    /// The size of the geometry's unit of `kind` (`LENGTH_UNIT`: in metres;
+    /// `PLANE_ANGLE_UNIT`: in radians) as the contexts of the representations holding faces
+    /// or edges assign it (`GLOBAL_UNIT_ASSIGNED_CONTEXT`; every context when no
+    /// representation holds any), None when they assign none. Other contexts may differ (an
+    /// Inventor part's placement in inches around its B-rep in millimetres); geometry in
+    /// different units is refused.
     pub(super) fn unit_factor(&self, kind: &str) -> Result<Option<f64>, StepError> {
-        let mut found: Option<(f64, &StepInstance)> = None;
-        let mut assigned = Vec::new();
-        for c in self.file.instances.values() {
-            if let Some(r) = c.record("GLOBAL_UNIT_ASSIGNED_CONTEXT") {
-                for u in r.params.first().and_then(StepValue::list).unwrap_or(&[]) {
-                    assigned.push(self.get(u, c)?);
-                }
-            }
+        let mut contexts = self.geometry_contexts()?;
+        if contexts.is_empty() {
+            contexts = self
+                .file
+                .instances
+                .values()
+                .filter(|c| c.record("GLOBAL_UNIT_ASSIGNED_CONTEXT").is_some())
+                .collect();
         }
-        for i in assigned {
-            if i.record(kind).is_none() {
+        let mut found: Option<(f64, &StepInstance)> = None;
+        for c in contexts {
+            let Some((f, i)) = self.context_unit(c, kind)? else {
                 continue;
-            }
-            let f = self.unit_size(i, 0)?;
+            };
             match found {
                 Some((g, first)) if (f - g).abs() > SAME * g.abs() => {
                     return Err(self.unsupported(
@@ -59,6 +62,36 @@ impl Converter<'_> {
             }
         }
         Ok(found.map(|(f, _)| f))
+    }
+
+    /// The unit of `kind` a representation context assigns, in SI base units, with the
+    /// unit instance; None when it assigns none (or is not a context with units).
+    pub(super) fn context_unit<'i>(
+        &'i self,
+        context: &'i StepInstance,
+        kind: &str,
+    ) -> Result<Option<(f64, &'i StepInstance)>, StepError> {
+        let Some(r) = context.record("GLOBAL_UNIT_ASSIGNED_CONTEXT") else {
+            return Ok(None);
+        };
+        for u in r.params.first().and_then(StepValue::list).unwrap_or(&[]) {
+            let i = self.get(u, context)?;
+            if i.record(kind).is_some() {
+                return Ok(Some((self.unit_size(i, 0)?, i)));
+            }
+        }
+        Ok(None)
+    }
+
+    /// Millimetres per length unit of representation `rep`'s context (the file's geometry
+    /// unit when its context assigns none).
+    pub(super) fn representation_length(&self, rep: &StepInstance) -> Result<f64, StepError> {
+        let Some(context) = self.representation_context(rep) else {
+            return Ok(self.length);
+        };
+        Ok(self
+            .context_unit(context, "LENGTH_UNIT")?
+            .map_or(self.length, |(metres, _)| 1000.0 * metres))
     }
 
     /// The size of a unit instance in SI base units (metre, radian).

@@ -236,6 +236,47 @@ fn lengths_are_read_in_millimetres() {
 /// it (its frame `item_1` onto `item_2`), and a part placed twice gives its faces twice.
 #[test]
 fn assembly_parts_are_put_in_place() {
+    check_the_cone_placed_twice("#622", "#10", "-5.", "");
+}
+
+/// A placement is read in the units of its own representation's context, which may differ
+/// from the geometry's (Inventor writes a part's placement in inches around its B-rep in
+/// millimetres): here the second cone's parent is in centimetres, −0.5 cm = −5 mm.
+#[test]
+fn a_placement_in_other_units_than_the_geometry_is_converted() {
+    check_the_cone_placed_twice(
+        "#622",
+        "#900022",
+        "-0.5",
+        "#900020 = ( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.CENTI.,.METRE.) );
+#900021 = ( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNIT_ASSIGNED_CONTEXT((#900020)) REPRESENTATION_CONTEXT('','') );
+#900022 = SHAPE_REPRESENTATION('',(#900003),#900021);
+",
+    );
+}
+
+/// The same when the placed representation is a part's own shape representation linked to
+/// its B-rep by a shape representation relationship written on its own (Pro/E, CATIA and
+/// Inventor link parts this way; the AS1 assembly of the CAx-IF's test models). A
+/// representation outside the assembly that holds the same B-rep (Pro/E's shape aspects)
+/// adds no occurrence.
+#[test]
+fn a_part_linked_to_its_brep_by_a_simple_relationship_is_put_in_place() {
+    check_the_cone_placed_twice(
+        "#900010",
+        "#10",
+        "-5.",
+        "#900010 = SHAPE_REPRESENTATION('',(#11),#721);
+#900011 = SHAPE_REPRESENTATION_RELATIONSHIP('','',#900010,#622);
+#900012 = SHAPE_REPRESENTATION('',(#623),#721);
+",
+    );
+}
+
+/// `shapes.step` with its cone moved and a second occurrence of representation `child`
+/// placed in representation `parent` (either may be defined by `extra`) at x = `x` in the
+/// parent's units, −5 mm.
+fn check_the_cone_placed_twice(child: &str, parent: &str, x: &str, extra: &str) {
     let text = std::fs::read_to_string(fixture("shapes.step")).unwrap();
     // The cone (part 5) moved to x = 5 with its axis along x (Gmsh/OpenCASCADE put it in
     // [6, 7] × [0.6, 1.4]²), and placed a second time, turned the other way at x = −5.
@@ -245,13 +286,15 @@ fn assembly_parts_are_put_in_place() {
         .replace("#34 = DIRECTION('',(1.,0.,-0.));", "#34 = DIRECTION('',(0.,1.,0.));")
         .replace(
             "ENDSEC;\nEND-ISO-10303-21;",
-            "#900001 = ( REPRESENTATION_RELATIONSHIP('','',#622,#10) REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#900002) SHAPE_REPRESENTATION_RELATIONSHIP() );
+            &format!(
+                "{extra}#900001 = ( REPRESENTATION_RELATIONSHIP('','',{child},{parent}) REPRESENTATION_RELATIONSHIP_WITH_TRANSFORMATION(#900002) SHAPE_REPRESENTATION_RELATIONSHIP() );
 #900002 = ITEM_DEFINED_TRANSFORMATION('','',#11,#900003);
 #900003 = AXIS2_PLACEMENT_3D('',#900004,#900005,#900006);
-#900004 = CARTESIAN_POINT('',(-5.,0.,0.));
+#900004 = CARTESIAN_POINT('',({x},0.,0.));
 #900005 = DIRECTION('',(-1.,0.,0.));
 #900006 = DIRECTION('',(0.,1.,0.));
-ENDSEC;\nEND-ISO-10303-21;",
+ENDSEC;\nEND-ISO-10303-21;"
+            ),
         );
     let model = geometry_from_step(&parse_step(moved.as_bytes()).unwrap()).unwrap();
     // Box 6, sphere, torus, cylinder 3, cone 3 twice.
