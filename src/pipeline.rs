@@ -463,7 +463,7 @@ fn curve_mesh_once(
             surface_edges_split = count;
         }
         let edges = if curving {
-            edges_opposite_doubly_curved_corners(linear, &found)
+            edges_opposite_doubly_curved_corners(linear, &found, geometry.model)
         } else {
             Vec::new()
         };

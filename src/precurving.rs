@@ -90,12 +90,15 @@ pub(crate) fn cells_with_doubly_curved_edges(
 }
 
 /// The edges to split so that no triangle or tetrahedron has two facets on one curved
-/// entity: for such a cell, the edge opposite the corner the two facets share, unless that
-/// edge lies on a declared facet (splitting it would put a new vertex on the boundary, off
-/// the geometry). Lower vertex id first, sorted, no repeats.
+/// entity — or on two entities that meet tangentially where the facets meet (a fillet and
+/// the plane it runs into, a CAD face split along a smooth seam), which opens the cell's
+/// corner to 180° just the same: for such a cell, the edge opposite the corner the two
+/// facets share, unless that edge lies on a declared facet (splitting it would put a new
+/// vertex on the boundary, off the geometry). Lower vertex id first, sorted, no repeats.
 pub(crate) fn edges_opposite_doubly_curved_corners(
     linear: &LinearMesh,
     association: &hocurve_geodesic::BoundaryAssociation,
+    model: &hocurve_nurbs::GeometryModel,
 ) -> Vec<[u32; 2]> {
     let facet_entity = facet_entities(linear, association);
     let on_a_facet = |a: u32, b: u32| {
@@ -123,9 +126,15 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
                 facet_entity.get(&sorted(&f)).copied()
             })
             .collect();
+        let x = |k: usize| linear.vertices[cell.vertices[k] as usize];
         for i in 0..n {
             for j in i + 1..n {
-                if entity[i].is_none() || entity[i] != entity[j] {
+                let (Some(ei), Some(ej)) = (entity[i], entity[j]) else {
+                    continue;
+                };
+                // Facet i holds vertex j and facet j vertex i; both hold the rest.
+                let shared: Vec<[f64; 3]> = (0..n).filter(|&k| k != i && k != j).map(x).collect();
+                if ei != ej && !meet_tangentially(model, [ei, ej], &shared, [x(j), x(i)]) {
                     continue;
                 }
                 // Facets i and j share every vertex but i and j: the edge (i, j) is opposite
@@ -138,6 +147,51 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
         }
     }
     edges.into_iter().collect()
+}
+
+/// The largest angle (degrees) between two entities across their common edge (vertex, in
+/// 2D) at which they count as meeting tangentially.
+const TANGENT_DEGREES: f64 = 10.0;
+
+/// Whether entities `pair[0]` and `pair[1]`, holding two facets of a cell that share the
+/// points `shared` (an edge, or a vertex in 2D) and reach out to `far[0]` and `far[1]`
+/// respectively, continue each other smoothly there: the directions into the two facets
+/// along the entities (a short step towards the far vertex, projected onto the entity, less
+/// the shared part's midpoint projected), across the shared edge, are within
+/// [`TANGENT_DEGREES`] of opposite. Measured in 3D, so poles and seams of the charts do not
+/// matter.
+fn meet_tangentially(
+    model: &hocurve_nurbs::GeometryModel,
+    pair: [usize; 2],
+    shared: &[[f64; 3]],
+    far: [[f64; 3]; 2],
+) -> bool {
+    use hocurve_nurbs::vec3::{add, dot, norm, reject, scale, sub};
+    let (Some(a), Some(b)) = (model.entities.get(pair[0]), model.entities.get(pair[1])) else {
+        return false;
+    };
+    if shared.is_empty() {
+        return false;
+    }
+    let mid = scale(
+        shared.iter().fold([0.0; 3], |s, &p| add(s, p)),
+        1.0 / shared.len() as f64,
+    );
+    let along = (shared.len() == 2).then(|| sub(shared[1], shared[0]));
+    let into = |entity: &hocurve_nurbs::GeometricEntity, far: [f64; 3]| {
+        let step = add(mid, scale(sub(far, mid), 1e-3));
+        let d = sub(entity.nearest_point(step), entity.nearest_point(mid));
+        let d = match along {
+            Some(e) if norm(e) > 0.0 => reject(d, scale(e, 1.0 / norm(e))),
+            _ => d,
+        };
+        let n = norm(d);
+        (n > 0.0).then(|| scale(d, 1.0 / n))
+    };
+    match (into(a, far[0]), into(b, far[1])) {
+        (Some(da), Some(db)) => dot(da, db) < -TANGENT_DEGREES.to_radians().cos(),
+        _ => false,
+    }
 }
 
 /// The surface edges to split, with the new vertex on the surface, so that no boundary
@@ -343,18 +397,63 @@ mod tests {
         }
     }
 
+    /// The planes z = 0 and y = 0 (bilinear patches over [−2, 2]²), and the cylinder about
+    /// the line y = 0, z = 0.5 along x of radius 0.5, tangent to z = 0 along the x axis.
+    fn planes_and_tangent_cylinder() -> hocurve_nurbs::GeometryModel {
+        use hocurve_nurbs::{EntityGeometry, GeometricEntity, NurbsSurface};
+        let plane = |corner: fn(f64, f64) -> [f64; 3]| {
+            let s = NurbsSurface::new(
+                1,
+                1,
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![0.0, 0.0, 1.0, 1.0],
+                vec![
+                    corner(-2.0, -2.0),
+                    corner(-2.0, 2.0),
+                    corner(2.0, -2.0),
+                    corner(2.0, 2.0),
+                ],
+                vec![1.0; 4],
+            )
+            .expect("plane");
+            EntityGeometry::Surface(s)
+        };
+        let cylinder =
+            hocurve_nurbs::shapes::cylinder([0.0, 0.0, 0.5], [1.0, 0.0, 0.0], 0.5, (-2.0, 2.0))
+                .expect("cylinder");
+        hocurve_nurbs::GeometryModel {
+            entities: vec![
+                GeometricEntity::new("z0", "test", plane(|a, b| [a, b, 0.0])),
+                GeometricEntity::new("y0", "test", plane(|a, b| [a, 0.0, b])),
+                GeometricEntity::new("fillet", "test", EntityGeometry::Surface(cylinder)),
+            ],
+        }
+    }
+
     #[test]
     fn a_cell_with_two_facets_on_one_entity_has_its_opposite_edge_split() {
         let mesh = tet_with_two_facets();
+        let model = planes_and_tangent_cylinder();
         // Both facets on entity 0: they share the edge 0 1; the opposite edge is 2 3.
-        let edges = edges_opposite_doubly_curved_corners(&mesh, &association(vec![Some(0); 2]));
+        let edges =
+            edges_opposite_doubly_curved_corners(&mesh, &association(vec![Some(0); 2]), &model);
         assert_eq!(edges, vec![[2, 3]]);
-        // On different entities (a feature edge between two surfaces), or one straight:
-        // nothing to split.
+        // On planes meeting at 90° (a feature edge), or one straight: nothing to split.
         for entities in [vec![Some(0), Some(1)], vec![Some(0), None]] {
-            let edges = edges_opposite_doubly_curved_corners(&mesh, &association(entities));
+            let edges = edges_opposite_doubly_curved_corners(&mesh, &association(entities), &model);
             assert!(edges.is_empty());
         }
+        // Facet 0 3 1 on a fillet that runs tangentially into the plane z = 0 along the
+        // edge 0 1 (vertex 3 moved onto it, 90° round): the corner opens to 180° as on one
+        // entity.
+        let mut filleted = mesh.clone();
+        filleted.vertices[3] = [0.0, -0.5, 0.5];
+        let edges = edges_opposite_doubly_curved_corners(
+            &filleted,
+            &association(vec![Some(0), Some(2)]),
+            &model,
+        );
+        assert_eq!(edges, vec![[2, 3]]);
         // An opposite edge on a declared facet is left alone (its midpoint would be a new
         // boundary vertex off the geometry).
         let mut with_third = mesh.clone();
@@ -366,6 +465,7 @@ mod tests {
         let edges = edges_opposite_doubly_curved_corners(
             &with_third,
             &association(vec![Some(0), Some(0), None]),
+            &model,
         );
         assert!(edges.is_empty());
     }

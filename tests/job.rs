@@ -193,6 +193,42 @@ fn coarse_parts_with_faces_bounded_by_feature_curves_certify_at_p5() {
     }
 }
 
+/// A block with small rounded edges meshed by Gmsh's default sizing
+/// (`fixtures/make_cad_fixtures.py`): its quarter-round rims have two segments, and end faces
+/// get triangles through an arc's two ends and its middle. Such a facet has every vertex on
+/// the rim, so on both the plane and the cylinder, and must go to the plane (its centre is
+/// on it); curved, its two rim edges meet at 180° (det J = 0 there, 7 elements left
+/// uncertified at p = 3 by every repair), so its third edge is split on the plane first.
+#[test]
+fn a_facet_through_an_arc_and_its_middle_is_split_on_its_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["step", "igs"] {
+        let outputs = Outputs {
+            mesh: dir.path().join(format!("rounded_block_{ext}.msh")),
+            report: None,
+            plots: None,
+            format: Default::default(),
+        };
+        let inputs = Inputs::read(
+            &fixture("rounded_block.msh"),
+            Some(&fixture(&format!("rounded_block.{ext}"))),
+        )
+        .unwrap();
+        let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |_| {})
+            .unwrap_or_else(|e| panic!("{ext}: {e}"));
+        assert!(finished.defects.is_empty(), "{ext}: {:?}", finished.defects);
+        let r = &finished.curved.report;
+        assert_eq!(r.certified_valid_elements, Some(r.elements), "{ext}");
+        assert!(r.surface_edges_split > 0, "{ext}");
+        assert_eq!(r.facets_straight, 0, "{ext}");
+        assert!(
+            r.max_geometry_distance < 1e-12,
+            "{ext}: {:e}",
+            r.max_geometry_distance
+        );
+    }
+}
+
 /// A B-spline loft meshed coarsely (`fixtures/make_cad_fixtures.py`): at p = 3 one cell with
 /// all four vertices on the boundary, two of its edges on the dented side meeting at a
 /// corner of an inner face, stays invalid after the stiffened solve and the untangling

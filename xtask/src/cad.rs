@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 24] = [
+const CASES: [Case; 25] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -201,6 +201,15 @@ const CASES: [Case; 24] = [
     // A cell at p = 2..5 that only splitting its longest chord certifies.
     Case {
         name: "twisted_loft",
+        geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // Quarter-round rims of two segments: facets through an arc's ends and middle.
+    Case {
+        name: "rounded_block",
         geometry: "step",
         group: "wall",
         full_only: false,
