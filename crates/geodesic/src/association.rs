@@ -18,7 +18,11 @@
 //!    cylinder — three points of a coarsely split quarter-round, one of them the arc's middle
 //!    — is on both by its vertices, but spans the plane (centre on it) and cuts through the
 //!    cylinder (centre a sagitta inside it). Taking the cylinder would make the facet's
-//!    chord a feature edge and lay it along the whole arc.
+//!    chord a feature edge and lay it along the whole arc. The centre is measured to the
+//!    entity's bounded NURBS patch, not its closed form: faces on one infinite cylinder or
+//!    plane (coaxial holes through stacked parts of an assembly) are one surface to the
+//!    closed form, but only one face's patch holds the facet — and its chart the facet's
+//!    parameters.
 //!
 //! Facets left over stay straight and are counted. A vertex of an associated facet farther
 //! than the tolerance from its entity is an error; a vertex within it is moved onto the
@@ -150,13 +154,24 @@ pub fn associate_boundary(
             .collect();
         open_vertices.sort_unstable();
         open_vertices.dedup();
+        // An entity without a closed form lies in the box of its control points (convex
+        // hull, positive weights): a vertex farther than the tolerance from that box cannot
+        // be on it, and its point inversion is skipped.
+        let boxes: Vec<Option<([f64; 3], [f64; 3])>> = candidates
+            .iter()
+            .map(|&e| hull_box(&geometry.entities[e]))
+            .collect();
         let distances: Vec<Vec<f64>> = open_vertices
             .par_iter()
             .map(|&v| {
                 let x = mesh.vertices[v as usize];
                 candidates
                     .iter()
-                    .map(|&e| geometry.entities[e].distance(x))
+                    .zip(&boxes)
+                    .map(|(&e, b)| match b {
+                        Some((lo, hi)) if box_distance(x, lo, hi) > tolerance => f64::INFINITY,
+                        _ => geometry.entities[e].distance(x),
+                    })
                     .collect()
             })
             .collect();
@@ -182,8 +197,10 @@ pub fn associate_boundary(
                     continue;
                 }
                 // Vertices on the curve where two surfaces meet are on both; the facet's
-                // centre tells which one the facet spans (see the module doc).
-                let score = worst.max(geometry.entities[e].distance(centre));
+                // centre tells which one the facet spans, and its distance to the entity's
+                // bounded patch which of several faces on one infinite surface it is on
+                // (see the module doc).
+                let score = worst.max(geometry.entities[e].patch_distance(centre));
                 if best.is_none_or(|(d, _)| score < d) {
                     best = Some((score, e));
                 }
@@ -254,6 +271,38 @@ pub fn associate_boundary(
         unassociated,
         max_vertex_move,
     })
+}
+
+/// The box of an entity's control points when the entity is its NURBS alone (no closed
+/// form, whose surface is unbounded) and every weight is positive.
+fn hull_box(entity: &hocurve_nurbs::GeometricEntity) -> Option<([f64; 3], [f64; 3])> {
+    if entity.analytic.is_some() {
+        return None;
+    }
+    let (points, weights) = match &entity.geometry {
+        hocurve_nurbs::EntityGeometry::Curve(c) => (&c.control_points, &c.weights),
+        hocurve_nurbs::EntityGeometry::Surface(s) => (&s.control_points, &s.weights),
+    };
+    if points.is_empty() || weights.iter().any(|&w| !(w > 0.0)) {
+        return None;
+    }
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in points {
+        for d in 0..3 {
+            lo[d] = lo[d].min(p[d]);
+            hi[d] = hi[d].max(p[d]);
+        }
+    }
+    Some((lo, hi))
+}
+
+/// The distance from `x` to the box `[lo, hi]` (0 inside).
+fn box_distance(x: [f64; 3], lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
+    (0..3)
+        .map(|d| (lo[d] - x[d]).max(x[d] - hi[d]).max(0.0).powi(2))
+        .sum::<f64>()
+        .sqrt()
 }
 
 /// The mean of a facet's vertices.

@@ -76,7 +76,31 @@ impl GeometricEntity {
     /// a closed form, the point is the closed-form one (exact) and the parameter comes from
     /// point inversion on the NURBS.
     pub fn closest_point(&self, x: [f64; 3]) -> EntityPoint {
-        let inverted = match &self.geometry {
+        let inverted = self.closest_point_on_patch(x);
+        match &self.analytic {
+            Some(shape) => {
+                let exact = shape.closest_point(x);
+                ClosestPoint {
+                    param: inverted.param,
+                    point: exact.point,
+                    distance: exact.distance,
+                }
+            }
+            None => inverted,
+        }
+    }
+
+    /// The distance from `x` to the entity's NURBS patch, which is bounded where its closed
+    /// form is not: a CAD face's cylinder or plane is a patch around the face, its closed
+    /// form the whole surface. Two faces on one infinite surface (coaxial holes, coplanar
+    /// tops of stacked parts) are told apart by it.
+    pub fn patch_distance(&self, x: [f64; 3]) -> f64 {
+        self.closest_point_on_patch(x).distance
+    }
+
+    /// Point inversion on the NURBS alone.
+    fn closest_point_on_patch(&self, x: [f64; 3]) -> EntityPoint {
+        match &self.geometry {
             EntityGeometry::Curve(c) => {
                 let cp = closest_point_on_curve(c, x);
                 ClosestPoint {
@@ -93,17 +117,6 @@ impl GeometricEntity {
                     closest_point_on_surface(s, x)
                 }
             }
-        };
-        match &self.analytic {
-            Some(shape) => {
-                let exact = shape.closest_point(x);
-                ClosestPoint {
-                    param: inverted.param,
-                    point: exact.point,
-                    distance: exact.distance,
-                }
-            }
-            None => inverted,
         }
     }
 

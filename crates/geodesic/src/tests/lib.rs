@@ -489,3 +489,47 @@ fn a_facet_with_every_vertex_on_a_rim_goes_to_the_surface_through_its_centre() {
     assert_eq!(a.vertex_entities[&1], [0, 1], "on the rim: both surfaces");
     assert_eq!(a.vertex_entities[&3], [0]);
 }
+
+/// Two CAD faces on one infinite cylinder (coaxial holes through two stacked plates): their
+/// closed forms are the same surface, so every vertex is on both; the facet goes to the face
+/// whose bounded patch holds it, not to the first listed — whose chart would clamp the
+/// facet's parameters to its own end.
+#[test]
+fn a_facet_on_one_of_two_coaxial_faces_goes_to_the_face_that_holds_it() {
+    use hocurve_mesh::{Element, Shape};
+    use hocurve_nurbs::shapes::{cylinder, AnalyticShape};
+    use std::collections::BTreeMap;
+    let on = |t: f64, z: f64| [t.cos(), t.sin(), z];
+    let mesh = LinearMesh {
+        dim: 3,
+        vertices: vec![on(0.0, 2.2), on(0.6, 2.2), on(0.3, 2.8)],
+        cells: Vec::new(),
+        facets: vec![Element {
+            kind: Shape::Tri,
+            vertices: vec![0, 1, 2],
+            entity: 1,
+        }],
+        physical_groups: Vec::new(),
+        entity_physicals: BTreeMap::new(),
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
+    };
+    let face = |name: &str, range: (f64, f64)| {
+        let mut e = GeometricEntity::new(
+            name,
+            "test",
+            EntityGeometry::Surface(
+                cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0, range).expect("cylinder"),
+            ),
+        );
+        e.analytic = Some(AnalyticShape::new_cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap());
+        e
+    };
+    let model = GeometryModel {
+        entities: vec![face("lower", (0.0, 1.0)), face("upper", (2.0, 3.0))],
+    };
+    let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None).expect("ok");
+    assert_eq!(a.facet_entity, [Some(1)]);
+    assert_eq!(a.vertex_entities[&0], [1]);
+}
