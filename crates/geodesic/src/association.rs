@@ -283,7 +283,7 @@ fn hull_box(entity: &hocurve_nurbs::GeometricEntity) -> Option<([f64; 3], [f64; 
         hocurve_nurbs::EntityGeometry::Curve(c) => (&c.control_points, &c.weights),
         hocurve_nurbs::EntityGeometry::Surface(s) => (&s.control_points, &s.weights),
     };
-    if points.is_empty() || weights.iter().any(|&w| !(w > 0.0)) {
+    if points.is_empty() || weights.iter().any(|w| w.is_nan() || *w <= 0.0) {
         return None;
     }
     let mut lo = [f64::INFINITY; 3];
