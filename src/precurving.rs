@@ -400,21 +400,12 @@ mod tests {
     /// The planes z = 0 and y = 0 (bilinear patches over [−2, 2]²), and the cylinder about
     /// the line y = 0, z = 0.5 along x of radius 0.5, tangent to z = 0 along the x axis.
     fn planes_and_tangent_cylinder() -> hocurve_nurbs::GeometryModel {
-        use hocurve_nurbs::{EntityGeometry, GeometricEntity, NurbsSurface};
+        use hocurve_nurbs::{EntityGeometry, GeometricEntity};
         let plane = |corner: fn(f64, f64) -> [f64; 3]| {
-            let s = NurbsSurface::new(
-                1,
-                1,
-                vec![0.0, 0.0, 1.0, 1.0],
-                vec![0.0, 0.0, 1.0, 1.0],
-                vec![
-                    corner(-2.0, -2.0),
-                    corner(-2.0, 2.0),
-                    corner(2.0, -2.0),
-                    corner(2.0, 2.0),
-                ],
-                vec![1.0; 4],
-            )
+            let s = hocurve_nurbs::shapes::bilinear_patch([
+                [corner(-2.0, -2.0), corner(-2.0, 2.0)],
+                [corner(2.0, -2.0), corner(2.0, 2.0)],
+            ])
             .expect("plane");
             EntityGeometry::Surface(s)
         };

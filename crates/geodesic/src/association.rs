@@ -286,15 +286,7 @@ fn hull_box(entity: &hocurve_nurbs::GeometricEntity) -> Option<([f64; 3], [f64; 
     if points.is_empty() || weights.iter().any(|w| w.is_nan() || *w <= 0.0) {
         return None;
     }
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in points {
-        for d in 0..3 {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
-        }
-    }
-    Some((lo, hi))
+    Some(hocurve_nurbs::vec3::bounding_box(points))
 }
 
 /// The distance from `x` to the box `[lo, hi]` (0 inside).

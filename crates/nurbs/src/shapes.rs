@@ -133,6 +133,19 @@ pub fn sphere(center: [f64; 3], radius: f64) -> Result<NurbsSurface, NurbsError>
     )
 }
 
+/// The bilinear patch S(u, v) through four corners, `corners[i][j]` at u = i, v = j
+/// (a plane's rectangle when they are coplanar and opposite sides parallel).
+pub fn bilinear_patch(corners: [[[f64; 3]; 2]; 2]) -> Result<NurbsSurface, NurbsError> {
+    NurbsSurface::new(
+        1,
+        1,
+        vec![0.0, 0.0, 1.0, 1.0],
+        vec![0.0, 0.0, 1.0, 1.0],
+        vec![corners[0][0], corners[0][1], corners[1][0], corners[1][1]],
+        vec![1.0; 4],
+    )
+}
+
 /// The piece `axial_range.0 ≤ t ≤ axial_range.1` of the cylinder of `radius` whose axis passes
 /// through `point` with direction `axis`; v ∈ [0, 1] is linear in t.
 pub fn cylinder(

@@ -50,8 +50,9 @@ pub fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
     norm(sub(a, b))
 }
 
-/// Diagonal of the axis-aligned bounding box of `points` (0 for no points).
-pub fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
+/// The corners (lowest, highest) of the axis-aligned bounding box of `points` (infinite and
+/// inverted for no points).
+pub fn bounding_box(points: &[[f64; 3]]) -> ([f64; 3], [f64; 3]) {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in points {
@@ -60,6 +61,12 @@ pub fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
             hi[d] = hi[d].max(p[d]);
         }
     }
+    (lo, hi)
+}
+
+/// Diagonal of the axis-aligned bounding box of `points` (0 for no points).
+pub fn bounding_box_diagonal(points: &[[f64; 3]]) -> f64 {
+    let (lo, hi) = bounding_box(points);
     if points.is_empty() {
         0.0
     } else {

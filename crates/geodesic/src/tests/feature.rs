@@ -18,19 +18,10 @@ use hocurve_nurbs::{GeometricEntity, NurbsSurface};
 /// The plane z = slope · x as a bilinear patch over [−2, 2]².
 fn plane(slope: f64) -> NurbsSurface {
     let corner = |x: f64, y: f64| [x, y, slope * x];
-    NurbsSurface::new(
-        1,
-        1,
-        vec![0.0, 0.0, 1.0, 1.0],
-        vec![0.0, 0.0, 1.0, 1.0],
-        vec![
-            corner(-2.0, -2.0),
-            corner(-2.0, 2.0),
-            corner(2.0, -2.0),
-            corner(2.0, 2.0),
-        ],
-        vec![1.0; 4],
-    )
+    hocurve_nurbs::shapes::bilinear_patch([
+        [corner(-2.0, -2.0), corner(-2.0, 2.0)],
+        [corner(2.0, -2.0), corner(2.0, 2.0)],
+    ])
     .expect("plane")
 }
 

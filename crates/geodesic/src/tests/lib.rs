@@ -431,7 +431,6 @@ mod placement {
 fn a_facet_with_every_vertex_on_a_rim_goes_to_the_surface_through_its_centre() {
     use hocurve_mesh::{Element, Shape};
     use hocurve_nurbs::shapes::cylinder;
-    use hocurve_nurbs::NurbsSurface;
     use std::collections::BTreeMap;
     use std::f64::consts::FRAC_PI_4;
     let rim = |t: f64, z: f64| [t.cos(), t.sin(), z];
@@ -458,19 +457,10 @@ fn a_facet_with_every_vertex_on_a_rim_goes_to_the_surface_through_its_centre() {
         facet_tags: Vec::new(),
     };
     let corner = |x: f64, y: f64| [x, y, 0.0];
-    let plane = NurbsSurface::new(
-        1,
-        1,
-        vec![0.0, 0.0, 1.0, 1.0],
-        vec![0.0, 0.0, 1.0, 1.0],
-        vec![
-            corner(-2.0, -2.0),
-            corner(-2.0, 2.0),
-            corner(2.0, -2.0),
-            corner(2.0, 2.0),
-        ],
-        vec![1.0; 4],
-    )
+    let plane = hocurve_nurbs::shapes::bilinear_patch([
+        [corner(-2.0, -2.0), corner(-2.0, 2.0)],
+        [corner(2.0, -2.0), corner(2.0, 2.0)],
+    ])
     .expect("plane");
     let model = GeometryModel {
         entities: vec![
