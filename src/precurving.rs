@@ -155,11 +155,11 @@ const TANGENT_DEGREES: f64 = 10.0;
 
 /// Whether entities `pair[0]` and `pair[1]`, holding two facets of a cell that share the
 /// points `shared` (an edge, or a vertex in 2D) and reach out to `far[0]` and `far[1]`
-/// respectively, continue each other smoothly there: the directions into the two facets
-/// along the entities (a short step towards the far vertex, projected onto the entity, less
-/// the shared part's midpoint projected), across the shared edge, are within
+/// respectively, continue each other smoothly there: at every shared vertex (on both
+/// entities), the directions into the two facets along the entities — a short step towards
+/// the far vertex, projected onto the entity — across the shared edge are within
 /// [`TANGENT_DEGREES`] of opposite. Measured in 3D, so poles and seams of the charts do not
-/// matter.
+/// matter; from the vertices, not the edge's midpoint, which a curved rim leaves off both.
 fn meet_tangentially(
     model: &hocurve_nurbs::GeometryModel,
     pair: [usize; 2],
@@ -170,28 +170,32 @@ fn meet_tangentially(
     let (Some(a), Some(b)) = (model.entities.get(pair[0]), model.entities.get(pair[1])) else {
         return false;
     };
-    if shared.is_empty() {
-        return false;
-    }
-    let mid = scale(
-        shared.iter().fold([0.0; 3], |s, &p| add(s, p)),
-        1.0 / shared.len() as f64,
-    );
-    let along = (shared.len() == 2).then(|| sub(shared[1], shared[0]));
-    let into = |entity: &hocurve_nurbs::GeometricEntity, far: [f64; 3]| {
-        let step = add(mid, scale(sub(far, mid), 1e-3));
-        let d = sub(entity.nearest_point(step), entity.nearest_point(mid));
-        let d = match along {
-            Some(e) if norm(e) > 0.0 => reject(d, scale(e, 1.0 / norm(e))),
-            _ => d,
-        };
+    let along = match shared {
+        [p, q] => {
+            let e = sub(*q, *p);
+            let n = norm(e);
+            if n.is_nan() || n <= 0.0 {
+                return false;
+            }
+            Some(scale(e, 1.0 / n))
+        }
+        [_] => None,
+        _ => return false,
+    };
+    let into = |entity: &hocurve_nurbs::GeometricEntity, base: [f64; 3], far: [f64; 3]| {
+        let on = entity.nearest_point(base);
+        let step = add(on, scale(sub(far, on), 1e-2));
+        let d = sub(entity.nearest_point(step), on);
+        let d = along.map_or(d, |e| reject(d, e));
         let n = norm(d);
         (n > 0.0).then(|| scale(d, 1.0 / n))
     };
-    match (into(a, far[0]), into(b, far[1])) {
-        (Some(da), Some(db)) => dot(da, db) < -TANGENT_DEGREES.to_radians().cos(),
-        _ => false,
-    }
+    shared.iter().all(
+        |&base| match (into(a, base, far[0]), into(b, base, far[1])) {
+            (Some(da), Some(db)) => dot(da, db) < -TANGENT_DEGREES.to_radians().cos(),
+            _ => false,
+        },
+    )
 }
 
 /// The surface edges to split, with the new vertex on the surface, so that no boundary
@@ -459,6 +463,61 @@ mod tests {
             &model,
         );
         assert!(edges.is_empty());
+    }
+
+    /// A cap (the plane z = 0) meeting at a curved rim a side that flares outwards (the
+    /// cone from r = 1 at z = 0 to r = 1.5 at z = 1, its patch ending at the rim): they meet
+    /// at about 63°, not tangentially. The chord's midpoint lies inside the rim, where the
+    /// side's closest points all fall on the patch's end: measured from there, both
+    /// directions were along the rim and the pair looked tangent.
+    #[test]
+    fn a_cap_meeting_a_flared_side_at_a_curved_rim_is_not_tangent() {
+        use hocurve_nurbs::{EntityGeometry, GeometricEntity, NurbsSurface};
+        let circle = |r: f64, z: f64| {
+            hocurve_nurbs::shapes::circle([0.0, 0.0, z], [0.0, 0.0, 1.0], r).expect("circle")
+        };
+        let (bottom, top) = (circle(1.0, 0.0), circle(1.5, 1.0));
+        let mut points = Vec::new();
+        let mut weights = Vec::new();
+        for (p, q) in bottom.control_points.iter().zip(&top.control_points) {
+            points.extend([*p, *q]);
+        }
+        for w in &bottom.weights {
+            weights.extend([*w, *w]);
+        }
+        let side = NurbsSurface::new(
+            bottom.degree,
+            1,
+            bottom.knots.clone(),
+            vec![0.0, 0.0, 1.0, 1.0],
+            points,
+            weights,
+        )
+        .expect("cone");
+        let mut model = planes_and_tangent_cylinder();
+        model.entities.push(GeometricEntity::new(
+            "flared",
+            "test",
+            EntityGeometry::Surface(side),
+        ));
+        let rim = |t: f64| [t.cos(), t.sin(), 0.0];
+        let shared = [rim(0.0), rim(1.0)];
+        let cap_far = [0.2, 0.3, 0.0];
+        let side_far = [1.25 * 0.5f64.cos(), 1.25 * 0.5f64.sin(), 0.5];
+        assert!(!meet_tangentially(
+            &model,
+            [0, 3],
+            &shared,
+            [cap_far, side_far]
+        ));
+        // The plane and the cylinder tangent to it along the x axis are.
+        let shared = [[0.0; 3], [1.0, 0.0, 0.0]];
+        assert!(meet_tangentially(
+            &model,
+            [0, 2],
+            &shared,
+            [[0.5, 1.0, 0.0], [0.5, -0.5, 0.5]]
+        ));
     }
 
     #[test]
