@@ -245,6 +245,8 @@ pub fn curve_mesh(
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
 ) -> Result<CurvedMesh, CurveError> {
+    // Before the association, whose "nothing on the geometry" would hide the reason.
+    linear.check_planar()?;
     refine_and_curve(linear, geometry, options, progress, REFINEMENT_ROUNDS)
 }
 

@@ -121,6 +121,18 @@ pub enum MeshError {
         /// Its tag in the file (Gmsh node tag).
         tag: u64,
     },
+    /// The cells of a 2D mesh do not lie in one plane z = const: a surface mesh in 3D.
+    #[error(
+        "the mesh is 2D (triangles/quadrilaterals) but not planar: node tag {low_tag} is at z = {low}, node tag {high_tag} at z = {high}; hocurve curves volume meshes and 2D meshes in a plane z = const (mesh the volume in 3D, or the section in the xy-plane)"
+    )]
+    NotPlanar {
+        /// Lowest z and its node's tag.
+        low: f64,
+        low_tag: u64,
+        /// Highest z and its node's tag.
+        high: f64,
+        high_tag: u64,
+    },
     /// More than two cells share a face (or, in 2D, an edge).
     #[error(
         "non-manifold mesh: more than two cells share the facet with node tags {vertex_tags:?}"

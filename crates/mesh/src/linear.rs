@@ -228,6 +228,45 @@ impl LinearMesh {
         Ok(())
     }
 
+    /// Rejects a 2D mesh whose cells do not lie in one plane z = const (a surface mesh of a
+    /// CAD part in 3D): the 2D pipeline works in the xy-plane, z riding along unchanged.
+    pub fn check_planar(&self) -> Result<(), MeshError> {
+        if self.dim != 2 {
+            return Ok(());
+        }
+        // The 2D pipeline works in the xy-plane; z rides along unchanged.
+        let used = self.cells.iter().flat_map(|c| c.vertices.iter().copied());
+        let (mut low, mut high) = ((f64::INFINITY, 0), (f64::NEG_INFINITY, 0));
+        for v in used {
+            let z = self.vertices[v as usize][2];
+            if z < low.0 {
+                low = (z, v);
+            }
+            if z > high.0 {
+                high = (z, v);
+            }
+        }
+        let extent = |d: usize| {
+            let (lo, hi) = self
+                .vertices
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                    (lo.min(x[d]), hi.max(x[d]))
+                });
+            hi - lo
+        };
+        let size = extent(0).hypot(extent(1)).hypot(extent(2));
+        if high.0 - low.0 > 1e-9 * size {
+            return Err(MeshError::NotPlanar {
+                low: low.0,
+                low_tag: self.vertex_tag(low.1 as usize),
+                high: high.0,
+                high_tag: self.vertex_tag(high.1 as usize),
+            });
+        }
+        Ok(())
+    }
+
     /// Rejects inverted or degenerate cells: in 3D, a cell whose Jacobian determinant at
     /// any vertex is not positive; in 2D (where a mesh may be numbered clockwise or
     /// counter-clockwise in the xy-plane), a degenerate cell, or one whose orientation
@@ -236,6 +275,7 @@ impl LinearMesh {
     /// element's), so this is exact for straight-sided cells; it assumes [`Self::validate`]
     /// passed.
     pub fn check_orientation(&self) -> Result<(), MeshError> {
+        self.check_planar()?;
         let mut reference_sign = 0.0;
         let turn = |sign: f64| {
             if sign > 0.0 {

@@ -222,6 +222,36 @@ fn validation_errors_name_file_tags() {
     assert!(text.contains("node tag 503"), "{text}");
 }
 
+/// A triangle mesh in 3D that is not in one plane z = const (a surface mesh of a CAD part) is
+/// refused with the lowest and highest nodes; a 2D mesh in the plane z = 5 is accepted.
+#[test]
+fn a_2d_mesh_must_lie_in_a_plane_z_const() {
+    let mut mesh = one_cell(
+        2,
+        Shape::Tri,
+        vec![[0.0, 0.0, 5.0], [1.0, 0.0, 5.0], [0.0, 1.0, 5.0]],
+    );
+    mesh.vertex_tags = vec![501, 502, 503];
+    assert!(mesh.check_orientation().is_ok());
+    mesh.vertices[1][2] = 5.5;
+    // A valid mesh to read (its file is what it is), but not one to curve.
+    assert!(mesh.validate().is_ok());
+    let err = mesh.check_planar().unwrap_err();
+    assert!(
+        matches!(
+            err,
+            MeshError::NotPlanar {
+                low_tag: 501,
+                high_tag: 502,
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+    assert!(err.to_string().contains("not planar"), "{err}");
+    assert!(mesh.check_orientation().is_err());
+}
+
 /// A split edge's new cells and facets get element tags past the largest of both lists
 /// (Gmsh numbers cells and facets together).
 #[test]
