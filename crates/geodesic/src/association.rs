@@ -343,11 +343,25 @@ pub(crate) fn snap_onto_with(
 ) -> [f64; 3] {
     let size = geometry.size().max(f64::MIN_POSITIVE);
     let mut y = x;
+    // Each entity's parameter of its last foot: after a global inversion for the first, the
+    // feet move little, and a local search from there finds the next (where two faces meet
+    // at a grazing angle, hundreds of steps).
+    let mut params: Vec<Option<[f64; 2]>> = vec![None; entities.len()];
     for _ in 0..200 {
         let before = y;
         y = first(y);
-        for &e in entities {
-            y = geometry.entities[e].nearest_point(y);
+        for (&e, param) in entities.iter().zip(params.iter_mut()) {
+            let entity = &geometry.entities[e];
+            let (foot, at) = match *param {
+                Some(guess) => entity.nearest_point_near(y, guess),
+                None if entity.analytic.is_some() => (entity.nearest_point(y), [0.0; 2]),
+                None => {
+                    let found = entity.closest_point(y);
+                    (entity.nearest_point(y), found.param)
+                }
+            };
+            y = foot;
+            *param = Some(at);
         }
         if distance(before, y) <= 1e-14 * size {
             break;

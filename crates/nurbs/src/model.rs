@@ -4,8 +4,8 @@
 use std::sync::OnceLock;
 
 use crate::inversion::{
-    closest_point_on_curve, closest_point_on_surface, closest_point_on_surface_sampled,
-    SurfaceSamples,
+    closest_point_on_curve, closest_point_on_curve_near, closest_point_on_surface,
+    closest_point_on_surface_near, closest_point_on_surface_sampled, SurfaceSamples,
 };
 use crate::shapes::{AnalyticShape, ClosestPoint};
 use crate::{NurbsCurve, NurbsSurface};
@@ -126,6 +126,27 @@ impl GeometricEntity {
         match &self.analytic {
             Some(shape) => shape.closest_point(x).point,
             None => self.closest_point(x).point,
+        }
+    }
+
+    /// [`Self::nearest_point`] by a local search from the NURBS parameter `guess` (the
+    /// parameter of a point found before), with the parameter found: for repeated
+    /// projections of nearby points (alternating projections onto two faces), where a global
+    /// inversion per step would search a grid of samples each time. Closed forms ignore
+    /// `guess`.
+    pub fn nearest_point_near(&self, x: [f64; 3], guess: [f64; 2]) -> ([f64; 3], [f64; 2]) {
+        if let Some(shape) = &self.analytic {
+            return (shape.closest_point(x).point, guess);
+        }
+        match &self.geometry {
+            EntityGeometry::Curve(c) => {
+                let cp = closest_point_on_curve_near(c, x, guess[0]);
+                (cp.point, [cp.param, 0.0])
+            }
+            EntityGeometry::Surface(s) => {
+                let cp = closest_point_on_surface_near(s, x, guess);
+                (cp.point, cp.param)
+            }
         }
     }
 

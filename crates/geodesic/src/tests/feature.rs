@@ -232,3 +232,62 @@ fn a_traced_circle_has_the_exact_length() {
     let x = foot_on_intersection(&geometry, &[0, 1], [0.3, 0.4, 0.2]);
     assert!(norm(sub(x, [0.6, 0.8, 0.0])) < 1e-14, "{x:?}");
 }
+
+/// A torus (major radius 1, tube 0.5) lying on the plane z = 0, its tube `gap` above it: the
+/// two surfaces are tangent along the unit circle and meet only to `gap`, as two tangent
+/// B-spline faces of a CAD part meet only to the modeller's tolerance.
+fn torus_on_plane(gap: f64) -> GeometryModel {
+    let centre = [0.0, 0.0, 0.5 + gap];
+    let mut torus = GeometricEntity::new(
+        "torus",
+        "test",
+        EntityGeometry::Surface(
+            hocurve_nurbs::shapes::torus(centre, [0.0, 0.0, 1.0], 1.0, 0.5).expect("torus"),
+        ),
+    );
+    torus.analytic =
+        Some(AnalyticShape::new_torus(centre, [0.0, 0.0, 1.0], 1.0, 0.5).expect("torus"));
+    let plane = GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane(0.0)));
+    GeometryModel {
+        entities: vec![torus, plane],
+    }
+}
+
+#[test]
+fn the_seam_of_two_tangent_faces_is_traced_on_the_seam_whether_they_touch_cross_or_leave_a_gap() {
+    // Touching exactly, crossing at a grazing angle (two circles 1.4e-5 apart), and meeting
+    // only to a gap of 1e-10 (tangent B-spline faces of a CAD part).
+    for gap in [0.0, -1e-10, 1e-10] {
+        let geometry = torus_on_plane(gap);
+        let (a, b) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+        let curve = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);
+        // Alternating projections creep along such a seam (sublinearly where the faces touch),
+        // leaving the feet of chord midpoints scattered across it: the length never settled
+        // and the trace ran to `MAX_SEGMENTS` foot points (minutes on real B-spline faces).
+        let segments = curve.points.len() - 1;
+        assert!(segments < 128, "gap {gap}: {segments} segments");
+        // Crossing, the faces meet on two circles of radii 1 ± √(2 · 0.5 · |gap|); touching,
+        // the seam is fixed only to √(round-off of the offset, 1e-14 of the model size).
+        let across = (gap.abs() + 1e-14 * geometry.size()).sqrt();
+        assert!(
+            (curve.length() - 0.5 * PI).abs() < 0.5 * PI * across,
+            "gap {gap}: {}",
+            curve.length() - 0.5 * PI
+        );
+        // Every point, and the nodes placed along it, within the gap of both surfaces.
+        let fractions = [0.1, 0.25, 0.5, 0.9];
+        let nodes = fractions.iter().map(|&f| curve.at(f));
+        for x in curve.points.iter().copied().chain(nodes) {
+            let radius = (x[0] * x[0] + x[1] * x[1]).sqrt();
+            assert!((radius - 1.0).abs() <= across, "gap {gap}: {x:?}");
+            for e in &geometry.entities {
+                let d = e.distance(x);
+                assert!(
+                    d <= gap.abs() + 1e-14,
+                    "gap {gap}: {x:?} {d:e} from {}",
+                    e.name
+                );
+            }
+        }
+    }
+}

@@ -20,3 +20,28 @@ fn sphere_entity_projects_exactly_and_inverts_to_its_parameter() {
     assert_eq!(model.counts(), (0, 1));
     assert!(model.entity("cube").is_none());
 }
+
+#[test]
+fn a_local_projection_from_a_nearby_parameter_finds_the_global_foot() {
+    // A sphere without its closed form (as a B-spline face is) and a circle: from the
+    // parameter of a nearby point, the local search lands on the foot the global inversion
+    // finds, with a parameter that evaluates to it.
+    let ball = GeometricEntity::new(
+        "ball",
+        "test",
+        EntityGeometry::Surface(sphere([1.0, 0.0, 0.0], 2.0).unwrap()),
+    );
+    let ring = GeometricEntity::new(
+        "ring",
+        "test",
+        EntityGeometry::Curve(crate::shapes::circle([0.0; 3], [0.0, 0.0, 1.0], 1.5).unwrap()),
+    );
+    for e in [&ball, &ring] {
+        let (x, nearby) = ([3.5, 1.0, -0.5], [3.45, 1.1, -0.45]);
+        let guess = e.closest_point(nearby).param;
+        let (foot, param) = e.nearest_point_near(x, guess);
+        let global = e.closest_point(x);
+        assert!(vec3::distance(foot, global.point) < 1e-12, "{}", e.name);
+        assert!(vec3::distance(e.point(param), foot) < 1e-12, "{}", e.name);
+    }
+}
