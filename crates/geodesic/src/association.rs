@@ -329,7 +329,25 @@ pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3
     match entities {
         [] => x,
         [e] => geometry.entities[*e].nearest_point(x),
-        _ => snap_onto_with(geometry, entities, x, |y| y),
+        _ => {
+            let y = snap_onto_with(geometry, entities, x, |y| y);
+            let size = geometry.size().max(f64::MIN_POSITIVE);
+            let off = |y: [f64; 3]| -> f64 {
+                entities
+                    .iter()
+                    .map(|&e| geometry.entities[e].distance(y))
+                    .fold(0.0, f64::max)
+            };
+            let left = off(y);
+            if left <= 1e-13 * size {
+                return y;
+            }
+            // Alternating projections creep where two surfaces meet tangentially.
+            match crate::feature::foot_on_seam_of(geometry, entities, x) {
+                Some(z) if off(z) < left => z,
+                _ => y,
+            }
+        }
     }
 }
 

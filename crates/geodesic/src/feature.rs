@@ -411,6 +411,73 @@ fn foot_on_tangent_seam(
     None
 }
 
+/// The foot point of `x` on the seam of the two surface entities `surfaces` where they meet
+/// tangentially, with no seam direction known (a single node, not an edge): the direction
+/// across the seam is where the offset h of the second surface from the first (see
+/// [`foot_on_tangent_seam`]) changes: its gradient in the tangent plane where the surfaces
+/// cross, else (touching, h has a minimum along the seam) the principal direction of its
+/// Hessian, both from h on a 3 × 3 stencil. `None` where there is no such seam.
+pub(crate) fn foot_on_seam_of(
+    geometry: &GeometryModel,
+    surfaces: &[usize],
+    x: [f64; 3],
+) -> Option<[f64; 3]> {
+    let charts = charts_of(geometry, surfaces);
+    let ([first, second], 2) = (&charts[..], surfaces.len()) else {
+        return None;
+    };
+    let size = geometry.size().max(f64::MIN_POSITIVE);
+    let mut params: Vec<[f64; 2]> = surfaces
+        .iter()
+        .map(|&e| geometry.entities[e].closest_point(x).param)
+        .collect();
+    let (uv, y) = first.project_near(x, params[0]);
+    params[0] = uv;
+    let frame = SurfaceFrame::at(first, uv)?;
+    let e1 = unit(frame.derivatives.du)?;
+    let e2 = unit(cross(frame.normal, e1))?;
+    let offset = |a: f64, b: f64| -> f64 {
+        let z = add(y, add(scale(e1, a), scale(e2, b)));
+        let (_, p) = first.project_near(z, params[0]);
+        let (_, q) = second.project_near(p, params[1]);
+        dot(frame.normal, sub(q, p))
+    };
+    let step = 1e-4 * size;
+    let h: Vec<Vec<f64>> = (-1..=1)
+        .map(|i| {
+            (-1..=1)
+                .map(|j| offset(i as f64 * step, j as f64 * step))
+                .collect()
+        })
+        .collect();
+    let gradient = [
+        (h[2][1] - h[0][1]) / (2.0 * step),
+        (h[1][2] - h[1][0]) / (2.0 * step),
+    ];
+    let (haa, hbb) = (
+        (h[2][1] - 2.0 * h[1][1] + h[0][1]) / (step * step),
+        (h[1][2] - 2.0 * h[1][1] + h[1][0]) / (step * step),
+    );
+    let hab = (h[2][2] - h[2][0] - h[0][2] + h[0][0]) / (4.0 * step * step);
+    let across = if gradient[0].hypot(gradient[1]) > step * haa.abs().max(hbb.abs()) {
+        gradient
+    } else {
+        // The eigenvector of [[haa, hab], [hab, hbb]] of the larger |eigenvalue|.
+        let angle = 0.5 * (2.0 * hab).atan2(haa - hbb);
+        let (sin, cos) = angle.sin_cos();
+        let along = haa * cos * cos + 2.0 * hab * sin * cos + hbb * sin * sin;
+        let other = haa * sin * sin - 2.0 * hab * sin * cos + hbb * cos * cos;
+        if along.abs() >= other.abs() {
+            [cos, sin]
+        } else {
+            [-sin, cos]
+        }
+    };
+    let across = add(scale(e1, across[0]), scale(e2, across[1]));
+    let seam = cross(frame.normal, across);
+    foot_on_tangent_seam(&charts, &mut params, x, seam, size)
+}
+
 /// The point on two surfaces nearest `x` by alternating projections, each from the
 /// parameters of the last (`params`, updated): where the seam is the common boundary of two
 /// patches (B-spline faces joined edge to edge) the projections clamp to it and settle
