@@ -330,12 +330,15 @@ pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3
         [] => x,
         [e] => geometry.entities[*e].nearest_point(x),
         _ => {
-            let y = snap_onto_with(geometry, entities, x, |y| y);
+            let (y, params) = alternating_projections(geometry, entities, x);
             let size = geometry.size().max(f64::MIN_POSITIVE);
+            // (Measured by local searches from the feet's parameters: a global inversion
+            // per entity costs a grid search.)
             let off = |y: [f64; 3]| -> f64 {
                 entities
                     .iter()
-                    .map(|&e| geometry.entities[e].distance(y))
+                    .zip(&params)
+                    .map(|(&e, &uv)| distance(y, geometry.entities[e].nearest_point_near(y, uv).0))
                     .fold(0.0, f64::max)
             };
             let left = off(y);
@@ -343,7 +346,7 @@ pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3
                 return y;
             }
             // Alternating projections creep where two surfaces meet tangentially.
-            match crate::feature::foot_on_seam_of(geometry, entities, x) {
+            match crate::feature::foot_on_seam_of(geometry, entities, x, &params) {
                 Some(z) if off(z) < left => z,
                 _ => y,
             }
@@ -351,14 +354,13 @@ pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3
     }
 }
 
-/// Alternating projections onto `first` (a closure) and then each of `entities`, until the
-/// point settles to round-off.
-pub(crate) fn snap_onto_with(
+/// Alternating projections onto each of `entities`, until the point settles to round-off;
+/// with each entity's parameter of the last foot.
+fn alternating_projections(
     geometry: &GeometryModel,
     entities: &[usize],
     x: [f64; 3],
-    first: impl Fn([f64; 3]) -> [f64; 3],
-) -> [f64; 3] {
+) -> ([f64; 3], Vec<[f64; 2]>) {
     let size = geometry.size().max(f64::MIN_POSITIVE);
     let mut y = x;
     // Each entity's parameter of its last foot: after a global inversion for the first, the
@@ -367,15 +369,16 @@ pub(crate) fn snap_onto_with(
     let mut params: Vec<Option<[f64; 2]>> = vec![None; entities.len()];
     for _ in 0..200 {
         let before = y;
-        y = first(y);
         for (&e, param) in entities.iter().zip(params.iter_mut()) {
             let entity = &geometry.entities[e];
             let (foot, at) = match *param {
                 Some(guess) => entity.nearest_point_near(y, guess),
-                None if entity.analytic.is_some() => (entity.nearest_point(y), [0.0; 2]),
+                None if entity.analytic.is_some() => {
+                    (entity.nearest_point(y), entity.closest_point(y).param)
+                }
                 None => {
                     let found = entity.closest_point(y);
-                    (entity.nearest_point(y), found.param)
+                    (found.point, found.param)
                 }
             };
             y = foot;
@@ -385,5 +388,8 @@ pub(crate) fn snap_onto_with(
             break;
         }
     }
-    y
+    (
+        y,
+        params.into_iter().map(|p| p.unwrap_or_default()).collect(),
+    )
 }

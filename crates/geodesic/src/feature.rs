@@ -416,21 +416,20 @@ fn foot_on_tangent_seam(
 /// across the seam is where the offset h of the second surface from the first (see
 /// [`foot_on_tangent_seam`]) changes: its gradient in the tangent plane where the surfaces
 /// cross, else (touching, h has a minimum along the seam) the principal direction of its
-/// Hessian, both from h on a 3 × 3 stencil. `None` where there is no such seam.
+/// Hessian, both from h on a 3 × 3 stencil; from the parameters `guess` of nearby feet.
+/// `None` where there is no such seam.
 pub(crate) fn foot_on_seam_of(
     geometry: &GeometryModel,
     surfaces: &[usize],
     x: [f64; 3],
+    guess: &[[f64; 2]],
 ) -> Option<[f64; 3]> {
     let charts = charts_of(geometry, surfaces);
     let ([first, second], 2) = (&charts[..], surfaces.len()) else {
         return None;
     };
     let size = geometry.size().max(f64::MIN_POSITIVE);
-    let mut params: Vec<[f64; 2]> = surfaces
-        .iter()
-        .map(|&e| geometry.entities[e].closest_point(x).param)
-        .collect();
+    let mut params = guess.to_vec();
     let (uv, y) = first.project_near(x, params[0]);
     params[0] = uv;
     let frame = SurfaceFrame::at(first, uv)?;
