@@ -299,8 +299,7 @@ fn refine_and_curve(
                 }
             }
         };
-    // Valid elements are refined below this only when the user lets poor ones be reshaped.
-    let floor = REFINE_BELOW.min(options.reshape_below);
+    let floor = refine_floor(options.reshape_below);
     // Elements left uncertified, or certified below the floor; a result is better with
     // fewer uncertified elements, then a higher certified minimum.
     let poor = |q: &MeshQuality| -> Vec<usize> {
@@ -368,6 +367,13 @@ pub const REFINEMENT_ROUNDS: usize = 2;
 /// `--reshape-below`, whose reshaping has already run on them; a lower `--reshape-below`
 /// lowers it (0: poorly shaped valid elements are kept as they are).
 pub const REFINE_BELOW: f64 = 0.1;
+
+/// The Ĩ below which certified elements are refined with `--reshape-below` at
+/// `reshape_below`: [`REFINE_BELOW`], or lower when the user lets fewer valid elements be
+/// reshaped (0: none refined for their shape).
+pub fn refine_floor(reshape_below: f64) -> f64 {
+    REFINE_BELOW.min(reshape_below)
+}
 
 /// What one curving ([`curve_mesh_once`]) ends with.
 enum Once {

@@ -151,7 +151,7 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             "{} element(s) not certified after the solve, or certified below Ĩ {:.2} after \
              the repair: their longest chords split and the mesh curved again ({} round(s))",
             r.refined_elements,
-            crate::pipeline::REFINE_BELOW,
+            crate::pipeline::refine_floor(r.reshape_below),
             r.refinement_rounds
         ));
     }
