@@ -41,6 +41,9 @@ const CURVE_MATCH_TOLERANCE: f64 = 1e-9;
 const SEAM_ITERATIONS: usize = 40;
 /// At most this many alternating projections onto two surfaces from their last parameters.
 const ALTERNATIONS: usize = 100;
+/// The first, brief alternation: steps, and the gap (relative to the model size) it must
+/// close to be taken.
+const QUICK_ALTERNATION: (usize, f64) = (8, 1e-13);
 /// Alternating projections that settle with the two feet farther apart than this (relative
 /// to the model size) are taken to have stalled off the seam.
 const SEAM_GAP: f64 = 1e-6;
@@ -305,13 +308,26 @@ fn foot_near(
             }
         }
     }
-    if !converged && charts.len() == 2 && surfaces.len() == 2 {
+    // Closed forms are unbounded and cheap: there `snap_onto` projects onto the whole
+    // surfaces, where the charts' NURBS patches end at their faces' extent. (Two faces on
+    // one infinite cylinder — coaxial holes of stacked plates — "meet" wherever an edge
+    // crosses from one to the other; the patches would clamp its nodes to where they end.)
+    let closed_forms = surfaces
+        .iter()
+        .all(|&e| geometry.entities[e].analytic.is_some());
+    if !converged && !closed_forms && charts.len() == 2 && surfaces.len() == 2 {
+        // First the plain alternation, briefly: where the faces coincide (two faces of one
+        // cylinder, coplanar faces) or the seam is both patches' boundary (projections
+        // clamp to it), it settles in a few steps; only where it creeps, across the seam.
         let saved = params.clone();
-        let found = seam
-            .and_then(|t| foot_on_tangent_seam(charts, &mut params, x, t, size))
+        let found = foot_by_local_alternation(charts, &mut params, x, size, QUICK_ALTERNATION)
             .or_else(|| {
                 params.copy_from_slice(&saved);
-                foot_by_local_alternation(charts, &mut params, x, size)
+                seam.and_then(|t| foot_on_tangent_seam(charts, &mut params, x, t, size))
+            })
+            .or_else(|| {
+                params.copy_from_slice(&saved);
+                foot_by_local_alternation(charts, &mut params, x, size, (ALTERNATIONS, SEAM_GAP))
             });
         if let Some(found) = found {
             y = found;
@@ -367,6 +383,13 @@ fn foot_on_tangent_seam(
         params.copy_from_slice(&saved);
         let (hp, ..) = feet(centre + step, params)?;
         params.copy_from_slice(&centre_params);
+        let noise = 1e-14 * size;
+        if h0.abs() <= noise && (hp - h0).abs().max((hm - h0).abs()) <= 100.0 * noise {
+            // h is round-off across the stencil: the faces coincide here (two faces of one
+            // cylinder, coplanar faces of stacked parts), and a parabola through noise
+            // would jump anywhere along them.
+            return Some(scale(add(y, q), 0.5));
+        }
         // h ≈ h0 + b σ + c σ² about the centre.
         let b = (hp - hm) / (2.0 * step);
         let c = (hp - 2.0 * h0 + hm) / (2.0 * step * step);
@@ -490,13 +513,14 @@ fn foot_by_local_alternation(
     params: &mut [[f64; 2]],
     x: [f64; 3],
     size: f64,
+    (iterations, accepted_gap): (usize, f64),
 ) -> Option<[f64; 3]> {
     let [first, second] = charts else {
         return None;
     };
     let mut z = x;
     let mut gap = f64::INFINITY;
-    for _ in 0..ALTERNATIONS {
+    for _ in 0..iterations {
         let (uv, a) = first.project_near(z, params[0]);
         params[0] = first.unroll_near(uv, params[0]);
         let (uv, b) = second.project_near(a, params[1]);
@@ -506,10 +530,10 @@ fn foot_by_local_alternation(
         gap = new_gap;
         z = b;
         if settled {
-            return (gap <= SEAM_GAP * size).then(|| scale(add(a, b), 0.5));
+            return (gap <= accepted_gap * size).then(|| scale(add(a, b), 0.5));
         }
     }
-    (gap <= SEAM_GAP * size).then(|| scale(add(z, first.project_near(z, params[0]).1), 0.5))
+    (gap <= accepted_gap * size).then(|| scale(add(z, first.project_near(z, params[0]).1), 0.5))
 }
 
 /// The model's curve entity (with the arc on it from the first point to the last) through the

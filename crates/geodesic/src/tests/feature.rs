@@ -309,3 +309,30 @@ fn a_node_snapped_onto_a_tangent_seam_lands_on_both_faces() {
         assert!((radius - 1.0).abs() < 1e-6, "{y:?}");
     }
 }
+
+#[test]
+fn an_edge_across_two_faces_of_one_cylinder_follows_the_cylinder() {
+    // Coaxial holes of stacked plates: two faces on one infinite cylinder, their patches
+    // meeting at z = 1. An edge from one to the other "lies on both" everywhere along the
+    // cylinder; its nodes must follow the cylinder (the helix through the vertices), not
+    // be clamped to where the patches end.
+    let face = |name: &str, heights: (f64, f64)| {
+        let mut e = GeometricEntity::new(
+            name,
+            "test",
+            EntityGeometry::Surface(cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0, heights).expect("c")),
+        );
+        e.analytic =
+            Some(AnalyticShape::new_cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("cyl"));
+        e
+    };
+    let geometry = GeometryModel {
+        entities: vec![face("lower", (0.0, 1.0)), face("upper", (1.0, 2.0))],
+    };
+    let (a, b) = ([1.0, 0.0, 0.2], [0.0, 1.0, 1.5]);
+    let curve = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);
+    let middle = curve.at(0.5);
+    let radius = (middle[0] * middle[0] + middle[1] * middle[1]).sqrt();
+    assert!((radius - 1.0).abs() < 1e-12, "{middle:?}");
+    assert!((middle[2] - 0.85).abs() < 1e-3, "{middle:?}");
+}
