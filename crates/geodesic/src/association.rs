@@ -333,20 +333,30 @@ pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3
             let (y, params) = alternating_projections(geometry, entities, x);
             let size = geometry.size().max(f64::MIN_POSITIVE);
             // (Measured by local searches from the feet's parameters: a global inversion
-            // per entity costs a grid search.)
+            // per entity costs a grid search. Closed forms need no parameter.)
+            let foot = |e: usize, y: [f64; 3], param: Option<[f64; 2]>| match param {
+                Some(uv) => geometry.entities[e].nearest_point_near(y, uv).0,
+                None => geometry.entities[e].nearest_point(y),
+            };
             let off = |y: [f64; 3]| -> f64 {
                 entities
                     .iter()
                     .zip(&params)
-                    .map(|(&e, &uv)| distance(y, geometry.entities[e].nearest_point_near(y, uv).0))
+                    .map(|(&e, &uv)| distance(y, foot(e, y, uv)))
                     .fold(0.0, f64::max)
             };
             let left = off(y);
             if left <= 1e-13 * size {
                 return y;
             }
-            // Alternating projections creep where two surfaces meet tangentially.
-            match crate::feature::foot_on_seam_of(geometry, entities, x, &params) {
+            // Alternating projections creep where two surfaces meet tangentially; the seam
+            // solver works on the NURBS charts, so it needs every face's parameter.
+            let guess: Vec<[f64; 2]> = entities
+                .iter()
+                .zip(&params)
+                .map(|(&e, uv)| uv.unwrap_or_else(|| geometry.entities[e].closest_point(y).param))
+                .collect();
+            match crate::feature::foot_on_seam_of(geometry, entities, x, &guess) {
                 Some(z) if off(z) < left => z,
                 _ => y,
             }
@@ -355,12 +365,13 @@ pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3
 }
 
 /// Alternating projections onto each of `entities`, until the point settles to round-off;
-/// with each entity's parameter of the last foot.
+/// with each entity's parameter of the last foot (`None` for closed forms, projected
+/// without one).
 fn alternating_projections(
     geometry: &GeometryModel,
     entities: &[usize],
     x: [f64; 3],
-) -> ([f64; 3], Vec<[f64; 2]>) {
+) -> ([f64; 3], Vec<Option<[f64; 2]>>) {
     let size = geometry.size().max(f64::MIN_POSITIVE);
     let mut y = x;
     // Each entity's parameter of its last foot: after a global inversion for the first, the
@@ -371,25 +382,23 @@ fn alternating_projections(
         let before = y;
         for (&e, param) in entities.iter().zip(params.iter_mut()) {
             let entity = &geometry.entities[e];
-            let (foot, at) = match *param {
-                Some(guess) => entity.nearest_point_near(y, guess),
-                None if entity.analytic.is_some() => {
-                    (entity.nearest_point(y), entity.closest_point(y).param)
+            y = match *param {
+                _ if entity.analytic.is_some() => entity.nearest_point(y),
+                Some(guess) => {
+                    let (foot, at) = entity.nearest_point_near(y, guess);
+                    *param = Some(at);
+                    foot
                 }
                 None => {
                     let found = entity.closest_point(y);
-                    (found.point, found.param)
+                    *param = Some(found.param);
+                    found.point
                 }
             };
-            y = foot;
-            *param = Some(at);
         }
         if distance(before, y) <= 1e-14 * size {
             break;
         }
     }
-    (
-        y,
-        params.into_iter().map(|p| p.unwrap_or_default()).collect(),
-    )
+    (y, params)
 }

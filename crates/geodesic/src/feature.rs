@@ -373,6 +373,8 @@ fn foot_on_tangent_seam(
         let n = SurfaceFrame::at(first, params[0]).map_or(normal, |f| f.normal);
         Some((dot(n, sub(q, y)), y, q))
     };
+    // Offsets below this are round-off.
+    let noise = 1e-14 * size;
     let mut centre = 0.0;
     let mut step = 1e-4 * size;
     for _ in 0..SEAM_ITERATIONS {
@@ -383,7 +385,6 @@ fn foot_on_tangent_seam(
         params.copy_from_slice(&saved);
         let (hp, ..) = feet(centre + step, params)?;
         params.copy_from_slice(&centre_params);
-        let noise = 1e-14 * size;
         if h0.abs() <= noise && (hp - h0).abs().max((hm - h0).abs()) <= 100.0 * noise {
             // h is round-off across the stencil: the faces coincide here (two faces of one
             // cylinder, coplanar faces of stacked parts), and a parabola through noise
@@ -411,18 +412,18 @@ fn foot_on_tangent_seam(
         if !delta.is_finite() {
             // h constant: the faces coincide here (one surface split in two faces), or
             // never meet.
-            return (h0.abs() <= 1e-14 * size).then(|| scale(add(y, q), 0.5));
+            return (h0.abs() <= noise).then(|| scale(add(y, q), 0.5));
         }
         let delta = delta.clamp(-100.0 * step, 100.0 * step);
-        if delta.abs() <= 1e-14 * size {
+        if delta.abs() <= noise {
             return Some(scale(add(y, q), 0.5));
         }
-        if h0.abs() <= 1e-14 * size {
+        if h0.abs() <= noise {
             // On both surfaces to round-off. Where they touch, h is flat to round-off over a
             // band ~√(round-off) wide: the parabola's vertex is the seam if its offset is
             // round-off too, else the fit is noise and the centre is kept.
             let (h, y_next, q_next) = feet(centre + delta, params)?;
-            if h.abs() <= 1e-14 * size {
+            if h.abs() <= noise {
                 return Some(scale(add(y_next, q_next), 0.5));
             }
             params.copy_from_slice(&centre_params);
