@@ -1,8 +1,8 @@
 //! The minimum-angle correction's keep-or-undo rule (beyond the paper's Fig. 4, a
-//! heuristic on angles that can do harm): a corrected edge stays only if every element on
-//! it is better certified with the corrections than without any.
+//! heuristic on angles that can do harm): a corrected edge stays only if the worst element
+//! on it is better certified with the corrections than without any.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 use hocurve_geodesic::PlacementOptions;
 use hocurve_mesh::HighOrderMesh;
@@ -29,31 +29,38 @@ pub(crate) fn active_corrections(
         })
 }
 
-/// The `corrected` edges of `mesh` with a cell on them that is not better certified with
-/// the corrections than without any (scaled-Jacobian bounds per cell `with` and `without`):
-/// a correction has to earn its place on every element it touches.
+/// The `corrected` edges of `mesh` whose worst cell is not better certified with the
+/// corrections than without any (scaled-Jacobian bounds per cell `with` and `without`): a
+/// correction has to lift the worst element it touches. (Judged per cell instead, a
+/// correction that turns an inverted element valid would go for a 0.01 loss on a good
+/// neighbour.)
 pub(crate) fn corrections_not_helping(
     mesh: &HighOrderMesh,
     corrected: &BTreeSet<[u32; 2]>,
     with: &[f64],
     without: &[f64],
 ) -> BTreeSet<[u32; 2]> {
-    let mut losers = BTreeSet::new();
+    let mut worst: BTreeMap<[u32; 2], (f64, f64)> = BTreeMap::new();
     for (e, cell) in mesh.cells.iter().enumerate() {
-        if with[e] > without[e] {
-            continue;
-        }
         let vertices = &cell.nodes[..cell.kind.num_vertices()];
         for (i, &a) in vertices.iter().enumerate() {
             for &b in &vertices[i + 1..] {
                 let key = [a.min(b), a.max(b)];
                 if corrected.contains(&key) {
-                    losers.insert(key);
+                    let w = worst
+                        .entry(key)
+                        .or_insert((f64::INFINITY, f64::INFINITY));
+                    w.0 = w.0.min(with[e]);
+                    w.1 = w.1.min(without[e]);
                 }
             }
         }
     }
-    losers
+    worst
+        .into_iter()
+        .filter(|(_, (with, without))| with <= without)
+        .map(|(key, _)| key)
+        .collect()
 }
 
 /// Each element's certified lower bound of the scaled Jacobian, or its sampled minimum when
@@ -84,7 +91,7 @@ mod tests {
     use hocurve_testmeshes::{high_order, unit_tet};
 
     #[test]
-    fn a_correction_goes_when_one_element_on_its_edge_is_not_better_certified() {
+    fn a_correction_goes_when_the_worst_element_on_its_edge_is_not_better_certified() {
         // Two tetrahedra sharing the face 0 1 3; edge 1 2 is on the first only.
         let mut linear = unit_tet();
         linear.vertices.push([0.0, -1.0, 0.0]);
@@ -104,6 +111,12 @@ mod tests {
         assert_eq!(losers([0.5, 0.3], [0.4, 0.3]), BTreeSet::from([[0, 1]]));
         // The first worse: every corrected edge on it goes.
         assert_eq!(losers([0.3, 0.4], [0.4, 0.3]), corrected);
+        // An inverted first made valid at a small cost to the second: the worst on the
+        // shared edge is lifted, so everything stays.
+        assert!(losers([0.6, 0.35], [-0.1, 0.4]).is_empty());
+        // The second's loss makes it the worst on the shared edge, below the worst
+        // without: the shared edge goes.
+        assert_eq!(losers([0.6, 0.05], [0.1, 0.4]), BTreeSet::from([[0, 1]]));
         // Degenerate (NaN) bounds count as the worst.
         let mut q = assess(&mesh, &QualityOptions::default()).unwrap();
         q.scaled_jacobian[1] = f64::NAN;

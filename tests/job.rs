@@ -229,6 +229,43 @@ fn a_facet_through_an_arc_and_its_middle_is_split_on_its_surface() {
     }
 }
 
+/// A plate with a filleted boss meshed by Gmsh's default sizing
+/// (`fixtures/make_cad_fixtures.py`): the fillets are narrower than the mesh, so a facet on
+/// a fillet's torus has two vertices on the rim circle where the torus meets the top plane.
+/// Curved, that rim edge bulges past the facet's other edge at one end (−3° in the torus'
+/// tangent plane; Gmsh's own `setOrder` leaves 8 tets invalid at p = 2). The
+/// minimum-angle correction measured only at vertices inside one surface, so 1 / 2
+/// elements were left invalid at p = 2 / 3 after every repair; measured in the edge's surface
+/// at rim vertices too, and at p = 2 by a quadratic, all certify.
+#[test]
+fn a_fillet_facet_crossed_by_its_curved_rim_edge_is_corrected_at_every_order() {
+    let dir = tempfile::tempdir().unwrap();
+    for p in [2, 3] {
+        let outputs = Outputs {
+            mesh: dir.path().join(format!("boss_{p}.msh")),
+            report: None,
+            plots: None,
+            format: Default::default(),
+        };
+        let inputs = Inputs::read(
+            &fixture("filleted_boss.msh"),
+            Some(&fixture("filleted_boss.step")),
+        )
+        .unwrap();
+        let finished = curve_and_write(&inputs, &options(p), &outputs, &mut |_| {})
+            .unwrap_or_else(|e| panic!("p = {p}: {e}"));
+        assert!(finished.defects.is_empty(), "p = {p}: {:?}", finished.defects);
+        let r = &finished.curved.report;
+        assert_eq!(r.certified_valid_elements, Some(r.elements), "p = {p}");
+        assert!(r.corrected_edges > 0, "p = {p}");
+        assert!(
+            r.max_geometry_distance < 1e-12,
+            "p = {p}: {:e}",
+            r.max_geometry_distance
+        );
+    }
+}
+
 /// A B-spline loft meshed coarsely (`fixtures/make_cad_fixtures.py`): at p = 3 one cell with
 /// all four vertices on the boundary, two of its edges on the dented side meeting at a
 /// corner of an inner face, stays invalid after the stiffened solve and the untangling

@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 25] = [
+const CASES: [Case; 26] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -210,6 +210,15 @@ const CASES: [Case; 25] = [
     // Quarter-round rims of two segments: facets through an arc's ends and middle.
     Case {
         name: "rounded_block",
+        geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // Fillets narrower than the mesh: a torus facet crossed by its own curved rim edge.
+    Case {
+        name: "filleted_boss",
         geometry: "step",
         group: "wall",
         full_only: false,

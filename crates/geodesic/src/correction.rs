@@ -43,16 +43,22 @@
 //!   the surface normal, by O(L²κ). Other points of the edge (used by the face-interior
 //!   construction of Eqs. (6)–(7)) are Π_S(C(f)) for the fraction f.
 //!
-//! - **Where it applies.** Only at vertices inside one smooth surface: a vertex on a feature
-//!   curve or corner (on two entities or more) has no single tangent plane, so angles there
-//!   are neither measured nor corrected. The curving pipeline then keeps a correction only
-//!   if no element touching it comes out invalid.
+//! - **Where it applies.** At every end where S has a tangent plane, a vertex on a feature
+//!   curve or a corner included: the edge and its neighbours in the faces on S all lie in S,
+//!   so their angles are S's even where another entity meets S there. (A fillet's facet with
+//!   two vertices on the fillet's boundary circle is the common case: the curved boundary
+//!   edge can cross the facet's other edge at such a vertex.) The curving pipeline keeps a
+//!   correction only if it lifts the worst element on the edge.
 //!
-//! Orders the paper leaves open: p = 2 — no correction (a quadratic through two points has a
-//! single free vector, it cannot take a tangent at both ends; small angles are still
-//! counted); p ≥ 6 — the quintic of p = 5 ("extra conditions can be devised … but these are
-//! not considered here"); the degree-p interpolant reproduces it exactly. Edges on a curve
-//! (2D boundaries, 3D feature edges) are fixed by the geometry and are not corrected.
+//! Orders the paper leaves open: p = 2 — a quadratic through two points has a single free
+//! vector, so it takes the turned tangent at one end only: the end with the smaller angle
+//! (the lower-numbered vertex on a tie), C(t) = x₁ + C′(0) t + (x₂ − x₁ − C′(0)) t²; the other
+//! end's tangent follows, 2(x₂ − x₁) − C′(0), turned the other way, so the quadratic is
+//! taken only if the smallest angle at the two ends is larger with it than before. Its
+//! neighbours do not count on it to share a deficit (it may turn at its other end). p ≥ 6 — the quintic of p = 5 ("extra conditions
+//! can be devised … but these are not considered here"); the degree-p interpolant
+//! reproduces it exactly. Edges on a curve (2D boundaries, 3D feature edges) are fixed by
+//! the geometry and are not corrected.
 
 use hocurve_nurbs::vec3::{add, cross, dot, reject, scale, sub, unit};
 use hocurve_nurbs::GeometryModel;
@@ -100,6 +106,19 @@ impl HermiteCurve {
                 c
             }
             _ => Self::forward(data),
+        }
+    }
+
+    /// The quadratic through `start` and `end` with first derivative `start_derivative` at
+    /// `start` (p = 2): C(t) = P₀ + D₀ t + (P₁ − P₀ − D₀) t².
+    pub(crate) fn quadratic(start: [f64; 3], end: [f64; 3], start_derivative: [f64; 3]) -> Self {
+        Self {
+            coefficients: vec![
+                start,
+                start_derivative,
+                sub(sub(end, start), start_derivative),
+            ],
+            reversed: false,
         }
     }
 
@@ -203,10 +222,6 @@ pub(crate) struct EdgeEnd {
     pub(crate) tangent: [f64; 3],
     /// The neighbouring edges there.
     pub(crate) neighbours: Vec<Neighbour>,
-    /// Whether the vertex lies inside one smooth surface. A vertex on a feature curve or
-    /// corner (on two entities or more) has no single tangent plane: its angles are neither
-    /// measured nor corrected.
-    pub(crate) smooth: bool,
 }
 
 /// The outcome of checking one edge.
@@ -276,7 +291,7 @@ fn rotate(t: [f64; 3], normal: [f64; 3], psi: f64) -> [f64; 3] {
 }
 
 /// Checks the angles of the edge from `ends[0]` to `ends[1]` on the chart's surface (its
-/// geodesic has length `length`) and, if one is below `limit` (radians) and `order` ≥ 3,
+/// geodesic has length `length`) and, if one is below `limit` (radians) and `order` ≥ 2,
 /// builds the new edge of Fig. 4b. `None` if the surface has no tangent plane at an end.
 pub(crate) fn check_edge(
     chart: &SurfaceChart,
@@ -293,31 +308,36 @@ pub(crate) fn check_edge(
         let n = frame.normal;
         let t = unit(reject(end.tangent, n))?;
         let chord = reject(sub(ends[1 - i].point, end.point), n);
-        let (min_angle, psi) = if end.smooth {
-            vertex_turn(t, n, chord, end.point, &end.neighbours, limit)
-        } else {
-            (f64::INFINITY, 0.0)
-        };
+        let (min_angle, psi) = vertex_turn(t, n, chord, end.point, &end.neighbours, limit);
         turned[i] = rotate(t, n, psi);
         min_angles[i] = min_angle;
         frames.push(frame);
     }
     let min_angle = min_angles[0].min(min_angles[1]);
-    if min_angle >= limit || order < 3 {
+    if min_angle >= limit || order < 2 {
         return Some(AngleCheck {
             min_angle,
             curve: None,
         });
     }
-    let second = |i: usize| {
-        let f: &SurfaceFrame = &frames[i];
-        scale(f.normal, length * length * f.normal_curvature(turned[i]))
-    };
-    // p = 4: the curvature at the vertex with the smaller angle (the lower id on a tie).
+    // p = 2 and p = 4: the end with the smaller angle (the lower id on a tie) gets the
+    // extra condition.
     let first_is_worse = match min_angles[0].total_cmp(&min_angles[1]) {
         std::cmp::Ordering::Less => true,
         std::cmp::Ordering::Greater => false,
         std::cmp::Ordering::Equal => ends[0].vertex < ends[1].vertex,
+    };
+    if order == 2 {
+        return Some(AngleCheck {
+            min_angle,
+            curve: quadratic_edge(&frames, ends, turned, length, first_is_worse, limit)
+                .filter(|(_, new_min)| *new_min > min_angle)
+                .map(|(curve, _)| curve),
+        });
+    }
+    let second = |i: usize| {
+        let f: &SurfaceFrame = &frames[i];
+        scale(f.normal, length * length * f.normal_curvature(turned[i]))
     };
     let (start_second, end_second) = match order {
         3 => (None, None),
@@ -337,6 +357,43 @@ pub(crate) fn check_edge(
         min_angle,
         curve: Some(curve),
     })
+}
+
+/// The quadratic edge (p = 2) with the turned tangent at its worse end (`first_is_worse`),
+/// and the smallest angle at either end after it: the other end's tangent is no longer
+/// free, so the quadratic is only worth having if that angle beats the edge's before.
+fn quadratic_edge(
+    frames: &[SurfaceFrame],
+    ends: &[EdgeEnd; 2],
+    turned: [[f64; 3]; 2],
+    length: f64,
+    first_is_worse: bool,
+    limit: f64,
+) -> Option<(HermiteCurve, f64)> {
+    let (w, o) = if first_is_worse { (0, 1) } else { (1, 0) };
+    let (xw, xo) = (ends[w].point, ends[o].point);
+    let curve = HermiteCurve::quadratic(xw, xo, scale(turned[w], length));
+    // Into the edge at the other end: −C′(1) = C′(0) − 2 (x_o − x_w).
+    let n_o = frames[o].normal;
+    let t_o = unit(reject(
+        sub(scale(turned[w], length), scale(sub(xo, xw), 2.0)),
+        n_o,
+    ))?;
+    let angle_at = |i: usize, t: [f64; 3]| {
+        let n = frames[i].normal;
+        let chord = reject(sub(ends[1 - i].point, ends[i].point), n);
+        vertex_turn(t, n, chord, ends[i].point, &ends[i].neighbours, limit).0
+    };
+    let new_min = angle_at(w, turned[w]).min(angle_at(o, t_o));
+    let curve = if w == 0 {
+        curve
+    } else {
+        HermiteCurve {
+            reversed: true,
+            ..curve
+        }
+    };
+    Some((curve, new_min))
 }
 
 /// A corrected edge: its Hermite curve, whose points are projected onto the surface.

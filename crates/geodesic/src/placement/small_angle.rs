@@ -53,6 +53,7 @@ pub(crate) fn check_edge_angles(
             list.push(Neighbour {
                 tangent,
                 far_vertex: vertex(w)?,
+                // At p = 2 a neighbour turns at one end only, maybe not this one.
                 correctable: matches!(carrier, EdgeCarrier::Surface { .. }) && order >= 3,
             });
         }
@@ -67,7 +68,6 @@ pub(crate) fn check_edge_angles(
             },
             tangent,
             neighbours: list,
-            smooth: !matches!(association.vertex_entities.get(&v), Some(e) if e.len() > 1),
         });
     }
     let ends: [EdgeEnd; 2] = ends

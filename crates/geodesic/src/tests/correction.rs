@@ -82,6 +82,23 @@ fn hermite_curves_take_the_imposed_points_derivatives_and_curvatures() {
             assert!(close(c.point(t), back.point(1.0 - t), 1e-14));
         }
     }
+    // p = 2: the quadratic takes the imposed derivative at its start, and the other end's
+    // follows, 2 (P₁ − P₀) − D₀; reversed, the same curve from the other end.
+    let q = HermiteCurve::quadratic(data.start, data.end, data.start_derivative);
+    assert_eq!(q.degree(), 2);
+    assert!(close(q.point(0.0), data.start, 1e-14));
+    assert!(close(q.point(1.0), data.end, 1e-14));
+    assert!(close(q.derivative(0.0), data.start_derivative, 1e-14));
+    let follows = sub(scale(sub(data.end, data.start), 2.0), data.start_derivative);
+    assert!(close(q.derivative(1.0), follows, 1e-14));
+    let back = HermiteCurve {
+        reversed: true,
+        ..HermiteCurve::quadratic(data.end, data.start, scale(follows, -1.0))
+    };
+    for k in 0..=10 {
+        let t = k as f64 / 10.0;
+        assert!(close(q.point(t), back.point(t), 1e-14));
+    }
     // A cubic with the chord as both derivatives is the straight segment, uniformly.
     let chord = sub(data.end, data.start);
     let line = HermiteCurve::new(HermiteData {
@@ -313,15 +330,16 @@ fn a_thin_spherical_triangle_gets_its_small_angle_opened_to_the_limit() {
             on.corrected_edge_vertices
         );
         if p == 2 {
-            // A quadratic cannot take both end tangents: counted, not corrected.
-            assert_eq!(on.corrected_edges, 0);
+            // Each quadratic takes the turned tangent at A, its end with the smaller angle,
+            // and turns the whole deficit (a neighbour may not turn at A): together they
+            // open BAC beyond the limit, up to 2 × 10° − before.
             assert_eq!(
-                on,
-                BoundaryTargets {
-                    small_angle_edges: 2,
-                    min_edge_angle_degrees: on.min_edge_angle_degrees,
-                    ..off.clone()
-                }
+                on.corrected_edge_vertices,
+                vec![[a.min(b), a.max(b)], [a.min(c), a.max(c)]]
+            );
+            assert!(
+                after > 9.5 && after < 20.5 - before,
+                "{before} -> {after}"
             );
             continue;
         }
@@ -351,10 +369,12 @@ fn a_thin_spherical_triangle_gets_its_small_angle_opened_to_the_limit() {
     }
 }
 
-/// An edge end on a feature curve (a vertex on two entities) has no single tangent plane:
-/// its angles are neither measured nor corrected, while the same end inside the surface is.
+/// An edge end on a feature curve is measured in the edge's own surface, and a neighbour
+/// there that the edge has crossed (a curved feature edge bulging past it, as a fillet's rim
+/// does past a facet's other edge) gets the edge turned back to the limit at every order:
+/// the quadratic at p = 2 takes the turned tangent at that end.
 #[test]
-fn ends_on_feature_curves_are_neither_measured_nor_corrected() {
+fn an_edge_crossed_by_a_curved_neighbour_at_its_end_is_turned_back_at_every_order() {
     let model = sphere_model("sphere", 1.0);
     let hocurve_nurbs::EntityGeometry::Surface(surface) = &model.entities[0].geometry else {
         panic!("the sphere is a surface");
@@ -368,41 +388,77 @@ fn ends_on_feature_curves_are_neither_measured_nor_corrected() {
         ]
     };
     let (a, b) = (on_sphere(1.2, 0.0), on_sphere(1.2, 0.3));
-    let end = |point: [f64; 3], towards: [f64; 3], neighbours: Vec<Neighbour>, smooth| {
+    let end = |vertex: u32, point: [f64; 3], towards: [f64; 3], neighbours: Vec<Neighbour>| {
         let tangent = unit(reject(sub(towards, point), point)).expect("a tangent");
         EdgeEnd {
-            vertex: 0,
+            vertex,
             point,
             param: chart.project_near(point, [0.1, 0.5]).0,
             tangent,
             neighbours,
-            smooth,
         }
     };
-    // At a, a neighbour 2° off the edge: below the 10° limit.
-    let t_a = end(a, b, Vec::new(), true).tangent;
+    // At a, a fixed neighbour whose face lies 20° to one side of the edge, but whose
+    // (curved) tangent leaves a 3° to the other side: the edge has crossed it, angle −3°.
+    let t_a = end(0, a, b, Vec::new()).tangent;
     let n_a = a;
-    let close = add(
-        scale(t_a, 2f64.to_radians().cos()),
-        scale(cross(n_a, t_a), 2f64.to_radians().sin()),
-    );
+    let turned = |deg: f64| {
+        add(
+            scale(t_a, deg.to_radians().cos()),
+            scale(cross(n_a, t_a), deg.to_radians().sin()),
+        )
+    };
     let neighbour = Neighbour {
-        tangent: close,
-        far_vertex: add(a, scale(close, 0.3)),
+        tangent: turned(-3.0),
+        far_vertex: add(a, scale(turned(20.0), 0.3)),
         correctable: false,
     };
     let limit = 10f64.to_radians();
-    for (smooth, corrected) in [(true, true), (false, false)] {
-        let ends = [
-            end(a, b, vec![neighbour], smooth),
-            end(b, a, Vec::new(), true),
-        ];
-        let check = check_edge(&chart, &ends, 0.3, 3, limit).expect("tangent planes");
-        assert_eq!(check.curve.is_some(), corrected, "smooth {smooth}");
-        if smooth {
-            assert!((check.min_angle.to_degrees() - 2.0).abs() < 1e-6);
-        } else {
-            assert!(check.min_angle.is_infinite());
-        }
+    for order in 2..=6 {
+        let ends = [end(0, a, b, vec![neighbour]), end(1, b, a, Vec::new())];
+        let check = check_edge(&chart, &ends, 0.3, order, limit).expect("tangent planes");
+        assert!((check.min_angle.to_degrees() + 3.0).abs() < 1e-6);
+        let curve = check.curve.expect("corrected");
+        // The new edge leaves a 10° past the neighbour's tangent: turned by −13° about n.
+        let d = unit(reject(curve.derivative(0.0), n_a)).expect("a tangent");
+        let angle = dot(cross(turned(-3.0), d), n_a).atan2(dot(turned(-3.0), d));
+        assert!(
+            (angle.to_degrees() + 10.0).abs() < 1e-9,
+            "p = {order}: {}",
+            angle.to_degrees()
+        );
+        assert!(close(curve.point(0.0), a, 1e-15) && close(curve.point(1.0), b, 1e-15));
     }
+    // At p = 2 the far end's tangent follows the quadratic (turned by φ at b): a neighbour
+    // at b half-way into that turn, on the side it turns to, would be crossed (−φ/2, worse
+    // than −3°), so the quadratic is not taken; from p = 3 both tangents are imposed.
+    let ends = [end(0, a, b, vec![neighbour]), end(1, b, a, Vec::new())];
+    let quadratic = check_edge(&chart, &ends, 0.3, 2, limit)
+        .and_then(|c| c.curve)
+        .expect("corrected");
+    let t_b = ends[1].tangent;
+    let d_b = unit(reject(scale(quadratic.derivative(1.0), -1.0), b)).expect("a tangent");
+    let phi = dot(cross(t_b, d_b), b).atan2(dot(t_b, d_b));
+    assert!(phi.abs().to_degrees() > 8.0, "{}", phi.to_degrees());
+    let half = add(
+        scale(t_b, (0.5 * phi).cos()),
+        scale(cross(b, t_b), (0.5 * phi).sin()),
+    );
+    let at_b = Neighbour {
+        tangent: half,
+        far_vertex: add(b, scale(half, 0.3)),
+        correctable: false,
+    };
+    for order in 2..=3 {
+        let ends = [end(0, a, b, vec![neighbour]), end(1, b, a, vec![at_b])];
+        let check = check_edge(&chart, &ends, 0.3, order, limit).expect("tangent planes");
+        assert!((check.min_angle.to_degrees() + 3.0).abs() < 1e-6);
+        assert_eq!(check.curve.is_some(), order == 3, "p = {order}");
+    }
+    // Nothing to correct below the limit's reach: p = 1 has no edge nodes.
+    let ends = [end(0, a, b, vec![neighbour]), end(1, b, a, Vec::new())];
+    assert!(check_edge(&chart, &ends, 0.3, 1, limit)
+        .expect("tangent planes")
+        .curve
+        .is_none());
 }
