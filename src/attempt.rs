@@ -79,6 +79,11 @@ pub(crate) struct Attempt {
     pub(crate) targets: Option<hocurve_geodesic::BoundaryTargets>,
     /// Largest distance of a curved-boundary node of `mesh` from its entities.
     pub(crate) max_geometry_distance: f64,
+    /// The same beyond the separation of the entities at nodes on several (the seams of
+    /// faces the file says meet only to its uncertainty), and the largest such separation.
+    pub(crate) seams: (f64, f64),
+    /// The geometry file's stated uncertainty (None: none stated, or no geometry).
+    pub(crate) uncertainty: Option<f64>,
     /// Nodes sliding in a plane or along a line.
     pub(crate) sliding_nodes: usize,
     /// The groups they slide on.
@@ -115,6 +120,8 @@ impl Attempt {
             mesh: straight.clone(),
             targets: None,
             max_geometry_distance: 0.0,
+            seams: (0.0, 0.0),
+            uncertainty: None,
             sliding_nodes: 0,
             sliding_groups: Vec::new(),
             sliding: BTreeMap::new(),
@@ -277,6 +284,7 @@ impl Attempt {
             mesh.nodes[n as usize] = x;
         }
         attempt.max_geometry_distance = targets.max_geometry_distance;
+        attempt.seams = (targets.max_geometry_distance, 0.0);
         attempt.mesh = mesh;
         attempt.targets = Some(targets);
         Ok(attempt)
@@ -316,11 +324,15 @@ impl Attempt {
                     .map(|&n| (n, self.mesh.nodes[n as usize]))
                     .collect()
             });
-            self.max_geometry_distance = project_nodes_onto_geometry(
+            let distance = project_nodes_onto_geometry(
                 geometry.model,
                 &targets.entities,
+                &targets.equispaced_feature_nodes,
                 &mut self.mesh.nodes,
             )?;
+            self.max_geometry_distance = distance.max;
+            self.seams = (distance.beyond_seams, distance.max_seam_gap);
+            self.uncertainty = geometry.model.uncertainty;
             if let Some(before) = before {
                 // The projection moved the wall's nodes by the interpolant's distance from
                 // the geometry, which can exceed a first layer's height: the cells stacked
@@ -376,6 +388,9 @@ impl Attempt {
             max_vertex_move: association.map_or(0.0, |a| a.max_vertex_move),
             boundary_nodes_on_geometry: targets.targets.len(),
             max_geometry_distance: self.max_geometry_distance,
+            distance_beyond_seams: self.seams.0,
+            max_seam_gap: self.seams.1,
+            geometry_uncertainty: self.uncertainty,
             small_angle_edges: targets.small_angle_edges,
             corrected_edges: targets.corrected_edges,
             min_edge_angle_degrees: targets.min_edge_angle_degrees,

@@ -422,6 +422,7 @@ mod tests {
                 GeometricEntity::new("y0", "test", plane(|a, b| [a, 0.0, b])),
                 GeometricEntity::new("fillet", "test", EntityGeometry::Surface(cylinder)),
             ],
+            uncertainty: None,
         }
     }
 

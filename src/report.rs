@@ -78,6 +78,17 @@ pub struct CurveReport {
     pub boundary_nodes_on_geometry: usize,
     /// Largest distance of a boundary node from its geometry entity.
     pub max_geometry_distance: f64,
+    /// Largest distance of a boundary node from its entities beyond their own separation
+    /// there: nodes on the common edge of faces that the geometry file says meet only to
+    /// its uncertainty (`geometry_uncertainty`) cannot be on both. Equal to
+    /// `max_geometry_distance` where the faces meet; what "on the geometry" is judged by.
+    pub distance_beyond_seams: f64,
+    /// Largest separation of the entities at a boundary node on several (0 where they meet,
+    /// or where the file states no uncertainty); honoured up to `geometry_uncertainty`.
+    pub max_seam_gap: f64,
+    /// The distance to which the geometry file says its entities meet (STEP's uncertainty,
+    /// IGES's minimum resolution), None when it states none.
+    pub geometry_uncertainty: Option<f64>,
     /// Curved surface edges meeting a neighbour below the minimum angle.
     pub small_angle_edges: usize,
     /// Of those, edges rebuilt by the Hermite-type correction (Fig. 4).

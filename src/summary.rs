@@ -7,7 +7,7 @@ use std::path::Path;
 use hocurve_mesh::LinearMesh;
 
 use crate::job::Measured;
-use crate::pipeline::{CurveOptions, CurvedMesh};
+use crate::pipeline::{CurveOptions, CurveReport, CurvedMesh};
 
 /// The summary table printed after a run, at most 10 rows (with the two input lines, a
 /// run prints at most 12): output and sizes; boundary and distance to the geometry; sliding
@@ -31,13 +31,14 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
         (
             "boundary",
             format!(
-                "{} facets on the geometry ({} by name, {} by proximity), {} straight; {} nodes on it, max distance {:.1e} (tolerance {:.1e})",
+                "{} facets on the geometry ({} by name, {} by proximity), {} straight; {} nodes on it, max distance {:.1e}{} (tolerance {:.1e})",
                 r.facets_by_name + r.facets_by_proximity,
                 r.facets_by_name,
                 r.facets_by_proximity,
                 r.facets_straight,
                 r.boundary_nodes_on_geometry,
                 r.max_geometry_distance,
+                seam_note(r),
                 r.geometry_tolerance
             ),
         ),
@@ -197,6 +198,25 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
     rows.iter()
         .map(|(key, value)| format!("  {key:<width$}  {value}\n"))
         .collect()
+}
+
+/// Where the largest distance is on the common edge of faces the geometry file says meet
+/// only to its uncertainty: how far apart they are there, and what is left beyond that.
+fn seam_note(r: &CurveReport) -> String {
+    if r.max_seam_gap <= 0.0 {
+        return String::new();
+    }
+    // The faces meet to round-off where the largest distance is.
+    if r.max_seam_gap <= 1e-3 * r.max_geometry_distance {
+        return String::new();
+    }
+    let stated = r
+        .geometry_uncertainty
+        .map_or_else(String::new, |u| format!(", the file's uncertainty {u:.1e}"));
+    format!(
+        " on edges where faces are {:.1e} apart{stated}; {:.1e} beyond that",
+        r.max_seam_gap, r.distance_beyond_seams
+    )
 }
 
 /// What a linear mesh file holds: dimension, vertices, cells by type, and the elements of

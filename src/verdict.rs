@@ -99,12 +99,26 @@ impl std::fmt::Display for Uncertified {
 }
 
 /// Why the written boundary nodes of `curved` are not on the geometry (farther than
-/// [`GEOMETRY_DISTANCE_LIMIT`] × `model_size`), or None when they are.
+/// [`GEOMETRY_DISTANCE_LIMIT`] × `model_size` beyond the separation of the faces they lie
+/// on, where the geometry file says its faces meet only to its uncertainty), or None when
+/// they are.
 pub fn off_geometry(curved: &CurvedMesh, model_size: f64) -> Option<String> {
-    let distance = curved.report.max_geometry_distance;
-    (distance > GEOMETRY_DISTANCE_LIMIT * model_size).then(|| {
+    let r = &curved.report;
+    let beyond = r.distance_beyond_seams;
+    (beyond > GEOMETRY_DISTANCE_LIMIT * model_size).then(|| {
+        let seams = match r.geometry_uncertainty {
+            Some(u) if r.max_seam_gap > u => format!(
+                " (on edges where the geometry's faces are up to {:.1e} apart, more than the {u:.1e} to which the file says they meet: no point is on both)",
+                r.max_seam_gap
+            ),
+            _ if r.max_seam_gap > 0.0 => format!(
+                " beyond the {:.1e} by which the faces they lie on are apart",
+                r.max_seam_gap
+            ),
+            _ => String::new(),
+        };
         format!(
-            "written boundary nodes lie up to {distance:.3e} from the geometry, more than {GEOMETRY_DISTANCE_LIMIT:e} of the model size {model_size:.3e}"
+            "written boundary nodes lie up to {beyond:.3e} from the geometry{seams}, more than {GEOMETRY_DISTANCE_LIMIT:e} of the model size {model_size:.3e}"
         )
     })
 }

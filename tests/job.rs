@@ -266,6 +266,54 @@ fn a_fillet_facet_crossed_by_its_curved_rim_edge_is_corrected_at_every_order() {
     }
 }
 
+/// A sphere fused on a block, the joint filleted (`fixtures/make_cad_fixtures.py`):
+/// OpenCASCADE's fillet is a B-spline that meets the exact sphere only to 2e-6 (the STEP
+/// file states an uncertainty of 5e-6) and crosses it at a grazing angle near their common
+/// edge. Before: the traced edge scattered across that band (7 / 2 elements invalid at
+/// p = 3 / 4), the written nodes were snapped to wherever the faces cross (3e-3 away), and
+/// every order was refused as 2e-6 "off the geometry". Now the edge is the middle of the
+/// band, its written nodes come from it and lie exactly on one face, within the file's
+/// uncertainty of the other; the IGES export states a resolution (4.1e-7) below the faces'
+/// gap, and is refused with that reason.
+#[test]
+fn faces_that_meet_only_to_the_files_uncertainty_are_curved_within_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let outputs = |name: &str| Outputs {
+        mesh: dir.path().join(name),
+        report: None,
+        plots: None,
+        format: Default::default(),
+    };
+    let inputs = |ext: &str| {
+        Inputs::read(
+            &fixture("sphere_on_block.msh"),
+            Some(&fixture(&format!("sphere_on_block.{ext}"))),
+        )
+        .unwrap()
+    };
+    let finished = curve_and_write(&inputs("step"), &options(3), &outputs("a.msh"), &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(finished.defects.is_empty(), "{:?}", finished.defects);
+    let r = &finished.curved.report;
+    assert_eq!(r.certified_valid_elements, Some(r.elements));
+    assert_eq!(r.geometry_uncertainty, Some(5e-6));
+    assert!(
+        r.max_seam_gap > 1e-6 && r.max_seam_gap <= 5e-6,
+        "{:e}",
+        r.max_seam_gap
+    );
+    assert!(r.max_geometry_distance <= r.max_seam_gap);
+    assert!(r.distance_beyond_seams < 1e-12, "{:e}", r.distance_beyond_seams);
+    match curve_and_write(&inputs("igs"), &options(3), &outputs("b.msh"), &mut |_| {}) {
+        Err(JobError::Rejected { reason, .. }) => {
+            assert!(reason.contains("to which the file says they meet"), "{reason}");
+        }
+        Err(e) => panic!("{e}"),
+        Ok(_) => panic!("the IGES export's faces are farther apart than it says"),
+    }
+    assert!(!dir.path().join("b.msh").exists());
+}
+
 /// A B-spline loft meshed coarsely (`fixtures/make_cad_fixtures.py`): at p = 3 one cell with
 /// all four vertices on the boundary, two of its edges on the dented side meeting at a
 /// corner of an inner face, stays invalid after the stiffened solve and the untangling

@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 26] = [
+const CASES: [Case; 27] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -219,6 +219,15 @@ const CASES: [Case; 26] = [
     // Fillets narrower than the mesh: a torus facet crossed by its own curved rim edge.
     Case {
         name: "filleted_boss",
+        geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // A fillet's B-spline meeting a sphere only to the STEP file's uncertainty.
+    Case {
+        name: "sphere_on_block",
         geometry: "step",
         group: "wall",
         full_only: false,
@@ -475,8 +484,18 @@ fn report_matches(report: &Path, gmsh: &str) -> Result<()> {
         number(&ours, "max_geometry_distance")?,
         number(&theirs, "max_distance")?,
     );
-    if (distance - measured).abs() > 1e-10 * size {
-        bail!("max_geometry_distance {distance:.3e}, Gmsh measures {measured:.3e}");
+    // Gmsh measures each node against its nearest face; we measure it against every face
+    // it lies on. The two agree where faces meet; on the edges of faces the file says
+    // meet only to its uncertainty (`max_seam_gap` > 0), a node on one face is ours the
+    // gap away from the other: then Gmsh's may only be smaller.
+    let gap = number(&ours, "max_seam_gap")?;
+    let agree = if gap > 0.0 {
+        measured <= distance + 1e-10 * size
+    } else {
+        (distance - measured).abs() <= 1e-10 * size
+    };
+    if !agree {
+        bail!("max_geometry_distance {distance:.3e} (seam gap {gap:.1e}), Gmsh measures {measured:.3e}");
     }
     Ok(())
 }

@@ -323,7 +323,10 @@ fn foot_near(
         let found = foot_by_local_alternation(charts, &mut params, x, size, QUICK_ALTERNATION)
             .or_else(|| {
                 params.copy_from_slice(&saved);
-                seam.and_then(|t| foot_on_tangent_seam(charts, &mut params, x, t, size))
+                seam.and_then(|t| {
+                    let band = geometry.uncertainty.unwrap_or(0.0);
+                    foot_on_tangent_seam(charts, &mut params, x, t, (size, band))
+                })
             })
             .or_else(|| {
                 params.copy_from_slice(&saved);
@@ -350,12 +353,20 @@ fn foot_near(
 /// is found by fitting parabolas through three offsets (exact in one step on a quadratic
 /// h). The point returned is the midpoint of y and its projection onto the second surface:
 /// within half the gap of both. `None` when the parabolas do not settle.
+///
+/// Where the surfaces touch only to the file's uncertainty `band` (a fillet's B-spline
+/// beside the sphere it rounds: OpenCASCADE's wiggles by 2e-6 about the sphere, crossing it
+/// twice within 5e-4 of the edge), h has two roots with the whole span between them within
+/// `band`: the seam is the parabola's vertex, the middle of that band — either root alone
+/// would scatter the traced points across it (by up to 2e-3 there). Only where the feet
+/// themselves are within `band` (beyond a patch's end its projection clamps: the feet are
+/// apart along the surface while h stays flat).
 fn foot_on_tangent_seam(
     charts: &[SurfaceChart],
     params: &mut [[f64; 2]],
     x: [f64; 3],
     seam: [f64; 3],
-    size: f64,
+    (size, band): (f64, f64),
 ) -> Option<[f64; 3]> {
     let [first, second] = charts else {
         return None;
@@ -397,7 +408,9 @@ fn foot_on_tangent_seam(
         let discriminant = b * b - 4.0 * c * h0;
         let delta = if c.abs() * step <= 1e-3 * b.abs() {
             -h0 / b
-        } else if discriminant >= 0.0 {
+        } else if discriminant >= 0.0
+            && !(distance(y, q) <= band && (h0 - b * b / (4.0 * c)).abs() <= band)
+        {
             // The root nearer the centre.
             let r = discriminant.sqrt();
             let (r1, r2) = ((-b + r) / (2.0 * c), (-b - r) / (2.0 * c));
@@ -498,7 +511,8 @@ pub(crate) fn foot_on_seam_of(
     };
     let across = add(scale(e1, across[0]), scale(e2, across[1]));
     let seam = cross(frame.normal, across);
-    foot_on_tangent_seam(&charts, &mut params, x, seam, size)
+    let band = geometry.uncertainty.unwrap_or(0.0);
+    foot_on_tangent_seam(&charts, &mut params, x, seam, (size, band))
 }
 
 /// The point on two surfaces nearest `x` by alternating projections, each from the

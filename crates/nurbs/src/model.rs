@@ -180,6 +180,12 @@ impl GeometricEntity {
 pub struct GeometryModel {
     /// The entities, in input order.
     pub entities: Vec<GeometricEntity>,
+    /// The distance to which the file says its entities meet, in the model's length unit
+    /// (millimetres for STEP and IGES): STEP's `UNCERTAINTY_MEASURE_WITH_UNIT` of a length,
+    /// IGES's minimum user-intended resolution (Global parameter 19). Faces a modeller made
+    /// separately (a fillet approximated by a B-spline beside the exact sphere it rounds)
+    /// meet only to this; `None` when the source states none (exact analytic shapes).
+    pub uncertainty: Option<f64>,
 }
 
 impl GeometryModel {

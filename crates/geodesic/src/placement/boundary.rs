@@ -6,7 +6,7 @@ use std::collections::{BTreeMap, BTreeSet, HashMap};
 use std::sync::Arc;
 
 use hocurve_mesh::HighOrderMesh;
-use hocurve_nodes::{ReferenceElement, Shape};
+use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
 use hocurve_nurbs::GeometryModel;
 use rayon::prelude::*;
 
@@ -46,6 +46,13 @@ pub struct BoundaryTargets {
     pub feature_edges_on_curves: usize,
     /// Feature edges placed along a traced intersection curve.
     pub feature_edges_traced: usize,
+    /// The interior nodes of feature edges at the equispaced fractions of the written mesh,
+    /// by the same node ids, when the mesh's own family is another (empty otherwise). The
+    /// written mesh's other boundary nodes are the interpolant snapped back onto their
+    /// entity; a point near a seam snapped onto two faces that meet only to the file's
+    /// uncertainty slides to wherever they cross (3e-3 away along OpenCASCADE's fillet of a
+    /// sphere on a plane), so a seam's nodes come from its traced curve.
+    pub equispaced_feature_nodes: BTreeMap<u32, [f64; 3]>,
 }
 
 /// Target positions of the nodes of every associated facet of `mesh` (a straight-sided
@@ -274,6 +281,39 @@ pub fn place_boundary_nodes_with(
         for (n, x) in list {
             out.targets.insert(n, x);
         }
+    }
+    let equispaced: Vec<f64> = NodeFamily::Equispaced
+        .interior_nodes(Shape::Line, order)
+        .iter()
+        .map(|(x, _)| x[0])
+        .collect();
+    if mesh.family != NodeFamily::Equispaced {
+        // (At p = 2 every family's edge node is the midpoint: the nodes placed are the
+        // ones written.)
+        let same = equispaced == line_fractions;
+        let targets = &out.targets;
+        let feature_nodes: Vec<Vec<(u32, [f64; 3])>> = edge_work
+            .par_iter()
+            .filter(|(_, carrier)| matches!(carrier, EdgeCarrier::Feature(_)))
+            .filter_map(|(key, carrier)| {
+                // (Every carrier's edge was found above.)
+                let first = mesh.layout().edge_first_node(*edge_ids.get(*key)?, order);
+                equispaced
+                    .iter()
+                    .enumerate()
+                    .map(|(k, &f)| {
+                        let n = (first + k) as u32;
+                        let x = if same {
+                            targets.get(&n).copied()?
+                        } else {
+                            carrier.at(f).1
+                        };
+                        Some((n, x))
+                    })
+                    .collect()
+            })
+            .collect();
+        out.equispaced_feature_nodes = feature_nodes.into_iter().flatten().collect();
     }
 
     // Face-interior nodes, facet by facet (from the same carriers).

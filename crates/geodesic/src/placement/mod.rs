@@ -25,7 +25,9 @@ mod options;
 mod small_angle;
 
 pub use boundary::{place_boundary_nodes, place_boundary_nodes_with, BoundaryTargets};
-pub use geometry_distance::{max_distance_from_geometry, project_nodes_onto_geometry};
+pub use geometry_distance::{
+    max_distance_from_geometry, project_nodes_onto_geometry, GeometryDistance,
+};
 pub use options::{BoundaryNodeStrategy, PlacementOptions};
 
 #[cfg(test)]

@@ -49,7 +49,7 @@ fn model(slope: f64, with_rim: bool) -> GeometryModel {
         rim.analytic = Some(AnalyticShape::new_circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("c"));
         entities.push(rim);
     }
-    GeometryModel { entities }
+    GeometryModel { entities, uncertainty: None }
 }
 
 /// A can of `n` prisms about the z axis: bottom triangles on the plane z = slope · x
@@ -250,6 +250,7 @@ fn torus_on_plane(gap: f64) -> GeometryModel {
     let plane = GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane(0.0)));
     GeometryModel {
         entities: vec![torus, plane],
+        uncertainty: None,
     }
 }
 
@@ -328,6 +329,7 @@ fn an_edge_across_two_faces_of_one_cylinder_follows_the_cylinder() {
     };
     let geometry = GeometryModel {
         entities: vec![face("lower", (0.0, 1.0)), face("upper", (1.0, 2.0))],
+        uncertainty: None,
     };
     let (a, b) = ([1.0, 0.0, 0.2], [0.0, 1.0, 1.5]);
     let curve = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);

@@ -21,7 +21,7 @@ pub(crate) fn sphere_model(name: &str, radius: f64) -> GeometryModel {
         EntityGeometry::Surface(sphere([0.0; 3], radius).expect("sphere")),
     );
     e.analytic = Some(AnalyticShape::new_sphere([0.0; 3], radius).expect("sphere"));
-    GeometryModel { entities: vec![e] }
+    GeometryModel { entities: vec![e], uncertainty: None }
 }
 
 fn group_facets(mesh: &LinearMesh, name: &str) -> Vec<bool> {
@@ -161,6 +161,7 @@ fn proximity_leaves_out_a_facet_that_only_touches_the_curve() {
             "test",
             EntityGeometry::Curve(circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("circle")),
         )],
+        uncertainty: None,
     };
     let tolerance = 1e-4 * bounding_box_diagonal(&mesh.vertices);
     assert!(h < tolerance, "the case needs h within the tolerance");
@@ -334,7 +335,7 @@ mod placement {
         );
         e.analytic =
             Some(AnalyticShape::new_circle([0.5, 0.0, 0.0], [0.0, 0.0, 1.0], 10.0).unwrap());
-        let model = GeometryModel { entities: vec![e] };
+        let model = GeometryModel { entities: vec![e], uncertainty: None };
         let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
         assert!(a.by_name > 10);
         let mesh = HighOrderMesh::from_linear(&linear, 5, NodeFamily::Fekete).unwrap();
@@ -473,6 +474,7 @@ fn a_facet_with_every_vertex_on_a_rim_goes_to_the_surface_through_its_centre() {
             ),
             GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane)),
         ],
+        uncertainty: None,
     };
     let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None).expect("ok");
     assert_eq!(a.facet_entity, [Some(1), Some(0)]);
@@ -518,6 +520,7 @@ fn a_facet_on_one_of_two_coaxial_faces_goes_to_the_face_that_holds_it() {
     };
     let model = GeometryModel {
         entities: vec![face("lower", (0.0, 1.0)), face("upper", (2.0, 3.0))],
+        uncertainty: None,
     };
     let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None).expect("ok");
     assert_eq!(a.facet_entity, [Some(1)]);

@@ -171,3 +171,44 @@ fn out_of_range_options_are_errors() {
     let with = place_boundary_nodes_with(&mesh, &model, &a, &PlacementOptions::default()).unwrap();
     assert_eq!(plain, with);
 }
+
+/// A node on two faces that do not meet (concentric spheres 1e-6 apart, as a fillet's
+/// B-spline beside the sphere it rounds) is measured beyond their separation when the file
+/// says its faces meet only to an uncertainty that covers it, and plainly otherwise.
+#[test]
+fn a_node_on_faces_apart_by_the_files_uncertainty_is_measured_beyond_their_gap() {
+    let gap = 1e-6;
+    let mut model = sphere_model("inner", 1.0);
+    model
+        .entities
+        .extend(sphere_model("outer", 1.0 + gap).entities);
+    let d = hocurve_nurbs::vec3::unit([0.3, -0.5, 0.8]).expect("unit");
+    let at = |r: f64| [r * d[0], r * d[1], r * d[2]];
+    // On the inner sphere, half-way, and 1e-4 outside both.
+    let nodes = vec![at(1.0), at(1.0 + 0.5 * gap), at(1.0 + 1e-4)];
+    let measure = |uncertainty: Option<f64>, node: u32| {
+        let model = GeometryModel {
+            uncertainty,
+            ..model.clone()
+        };
+        let entities = BTreeMap::from([(node, vec![0, 1])]);
+        max_distance_from_geometry(&model, &entities, &nodes)
+    };
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-15;
+    // No uncertainty stated: plain distances.
+    let plain = measure(None, 0);
+    assert!(close(plain.max, gap) && close(plain.beyond_seams, gap));
+    assert_eq!(plain.max_seam_gap, 0.0);
+    // Stated 5e-6: the gap is the model's, nothing left beyond it.
+    for node in [0, 1] {
+        let honoured = measure(Some(5e-6), node);
+        assert!(close(honoured.max_seam_gap, gap), "{honoured:?}");
+        assert!(honoured.beyond_seams < 1e-15, "{honoured:?}");
+    }
+    // Stated 4e-7: only that much is the model's.
+    let partly = measure(Some(4e-7), 0);
+    assert!(close(partly.beyond_seams, gap - 4e-7), "{partly:?}");
+    // A node off both by far more than the gap stays off.
+    let off = measure(Some(5e-6), 2);
+    assert!(close(off.beyond_seams, 1e-4 - gap), "{off:?}");
+}

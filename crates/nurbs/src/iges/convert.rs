@@ -57,6 +57,9 @@ pub fn geometry_from_iges(model: &IgesModel) -> Result<GeometryModel, IgesError>
     // shallow.
     model.check_references()?;
     let mut geometry = Converter::new(model).convert()?;
+    let mm = model.global.unit_in_metres().map_or(1.0, |m| 1000.0 * m);
+    let resolution = model.global.min_resolution * mm;
+    geometry.uncertainty = (resolution > 0.0 && resolution.is_finite()).then_some(resolution);
     if let Some(metres) = model.global.unit_in_metres() {
         let mm = 1000.0 * metres;
         if mm != 1.0 {
@@ -167,6 +170,7 @@ impl<'a> Converter<'a> {
         }
         Ok(GeometryModel {
             entities: name_entities(converted),
+            uncertainty: None,
         })
     }
 

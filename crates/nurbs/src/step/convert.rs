@@ -153,6 +153,7 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
     }
     Ok(GeometryModel {
         entities: name_entities(converted),
+        uncertainty: c.length_uncertainty()?,
     })
 }
 

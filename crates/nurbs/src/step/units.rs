@@ -64,6 +64,43 @@ impl Converter<'_> {
         Ok(found.map(|(f, _)| f))
     }
 
+    /// The largest length uncertainty (`UNCERTAINTY_MEASURE_WITH_UNIT` of a length, in a
+    /// `GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT`) of the contexts holding faces or edges (every
+    /// context when none holds any), in millimetres; None when they state none.
+    pub(super) fn length_uncertainty(&self) -> Result<Option<f64>, StepError> {
+        let mut contexts = self.geometry_contexts()?;
+        if contexts.is_empty() {
+            contexts = self.file.instances.values().collect();
+        }
+        let mut largest: Option<f64> = None;
+        for c in contexts {
+            let Some(r) = c.record("GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT") else {
+                continue;
+            };
+            for u in r.params.first().and_then(StepValue::list).unwrap_or(&[]) {
+                let i = self.get(u, c)?;
+                let Some(m) = i.record("UNCERTAINTY_MEASURE_WITH_UNIT") else {
+                    continue;
+                };
+                let (Some(value), Some(unit)) = (
+                    m.params.first().and_then(StepValue::real),
+                    m.params.get(1),
+                ) else {
+                    continue;
+                };
+                let unit = self.get(unit, i)?;
+                if unit.record("LENGTH_UNIT").is_none() || !value.is_finite() || value <= 0.0 {
+                    continue;
+                }
+                let mm = 1000.0 * value * self.unit_size(unit, 0)?;
+                if mm.is_finite() {
+                    largest = Some(largest.map_or(mm, |l: f64| l.max(mm)));
+                }
+            }
+        }
+        Ok(largest)
+    }
+
     /// The unit of `kind` a representation context assigns, in SI base units, with the
     /// unit instance; None when it assigns none (or is not a context with units).
     pub(super) fn context_unit<'i>(

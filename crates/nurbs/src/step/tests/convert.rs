@@ -388,3 +388,28 @@ fn an_extrusion_of_a_whole_ellipse_is_the_cylinder() {
     }
     assert_eq!(sides, 1);
 }
+
+/// The distance to which the file's faces meet, in millimetres: OpenCASCADE writes its
+/// largest tolerance as the context's `UNCERTAINTY_MEASURE_WITH_UNIT` (1e-7 mm for exact
+/// shapes, 2e-6 for the wing body's approximated surfaces); a context in metres scales it;
+/// IGES states it as the Global section's minimum resolution.
+#[test]
+fn the_files_stated_uncertainty_is_read_in_millimetres() {
+    let shapes = read_step_geometry(&fixture("shapes.step")).unwrap();
+    assert_eq!(shapes.uncertainty, Some(1e-7));
+    let wing = read_step_geometry(&fixture("wing_body.step")).unwrap();
+    assert_eq!(wing.uncertainty, Some(2e-6));
+    let iges = read_iges_geometry(&fixture("plate_holes.igs")).unwrap();
+    assert_eq!(iges.uncertainty, Some(1e-7));
+    // The same file in metres: 1e-7 m is 1e-4 mm.
+    let text = std::fs::read_to_string(fixture("shapes.step")).unwrap();
+    let metres = text.replace("SI_UNIT(.MILLI.,.METRE.)", "SI_UNIT($,.METRE.)");
+    assert_ne!(metres, text);
+    let model = geometry_from_step(&parse_step(metres.as_bytes()).unwrap()).unwrap();
+    let u = model.uncertainty.unwrap();
+    assert!((u - 1e-4).abs() < 1e-16, "{u:e}");
+    // None stated, none assumed.
+    let bare = text.replace("UNCERTAINTY_MEASURE_WITH_UNIT", "UNKNOWN_MEASURE_WITH_UNIT");
+    let model = geometry_from_step(&parse_step(bare.as_bytes()).unwrap()).unwrap();
+    assert_eq!(model.uncertainty, None);
+}
