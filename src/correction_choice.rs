@@ -47,9 +47,7 @@ pub(crate) fn corrections_not_helping(
             for &b in &vertices[i + 1..] {
                 let key = [a.min(b), a.max(b)];
                 if corrected.contains(&key) {
-                    let w = worst
-                        .entry(key)
-                        .or_insert((f64::INFINITY, f64::INFINITY));
+                    let w = worst.entry(key).or_insert((f64::INFINITY, f64::INFINITY));
                     w.0 = w.0.min(with[e]);
                     w.1 = w.1.min(without[e]);
                 }

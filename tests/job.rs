@@ -254,7 +254,11 @@ fn a_fillet_facet_crossed_by_its_curved_rim_edge_is_corrected_at_every_order() {
         .unwrap();
         let finished = curve_and_write(&inputs, &options(p), &outputs, &mut |_| {})
             .unwrap_or_else(|e| panic!("p = {p}: {e}"));
-        assert!(finished.defects.is_empty(), "p = {p}: {:?}", finished.defects);
+        assert!(
+            finished.defects.is_empty(),
+            "p = {p}: {:?}",
+            finished.defects
+        );
         let r = &finished.curved.report;
         assert_eq!(r.certified_valid_elements, Some(r.elements), "p = {p}");
         assert!(r.corrected_edges > 0, "p = {p}");
@@ -268,13 +272,13 @@ fn a_fillet_facet_crossed_by_its_curved_rim_edge_is_corrected_at_every_order() {
 
 /// A sphere fused on a block, the joint filleted (`fixtures/make_cad_fixtures.py`):
 /// OpenCASCADE's fillet is a B-spline that meets the exact sphere only to 2e-6 (the STEP
-/// file states an uncertainty of 5e-6) and crosses it at a grazing angle near their common
-/// edge. Before: the traced edge scattered across that band (7 / 2 elements invalid at
-/// p = 3 / 4), the written nodes were snapped to wherever the faces cross (3e-3 away), and
-/// every order was refused as 2e-6 "off the geometry". Now the edge is the middle of the
-/// band, its written nodes come from it and lie exactly on one face, within the file's
-/// uncertainty of the other; the IGES export states a resolution (4.1e-7) below the faces'
-/// gap, and is refused with that reason.
+/// file states an uncertainty of 5e-6, the IGES a resolution of 3.88e-6) and crosses it at a
+/// grazing angle near their common edge. Before: the traced edge scattered across that band
+/// (7 / 2 elements invalid at p = 3 / 4), the written nodes were snapped to wherever the
+/// faces cross (3e-3 away), and every order was refused as 2e-6 "off the geometry". Now
+/// the edge is the middle of the band, its written nodes lie exactly on one face, within
+/// the file's uncertainty of the other. The same file stating 1e-7 is refused, with that
+/// reason.
 #[test]
 fn faces_that_meet_only_to_the_files_uncertainty_are_curved_within_it() {
     let dir = tempfile::tempdir().unwrap();
@@ -284,32 +288,54 @@ fn faces_that_meet_only_to_the_files_uncertainty_are_curved_within_it() {
         plots: None,
         format: Default::default(),
     };
-    let inputs = |ext: &str| {
-        Inputs::read(
-            &fixture("sphere_on_block.msh"),
-            Some(&fixture(&format!("sphere_on_block.{ext}"))),
-        )
-        .unwrap()
+    let inputs = |geometry: &std::path::Path| {
+        Inputs::read(&fixture("sphere_on_block.msh"), Some(geometry)).unwrap()
     };
-    let finished = curve_and_write(&inputs("step"), &options(3), &outputs("a.msh"), &mut |_| {})
-        .unwrap_or_else(|e| panic!("{e}"));
-    assert!(finished.defects.is_empty(), "{:?}", finished.defects);
-    let r = &finished.curved.report;
-    assert_eq!(r.certified_valid_elements, Some(r.elements));
-    assert_eq!(r.geometry_uncertainty, Some(5e-6));
-    assert!(
-        r.max_seam_gap > 1e-6 && r.max_seam_gap <= 5e-6,
-        "{:e}",
-        r.max_seam_gap
-    );
-    assert!(r.max_geometry_distance <= r.max_seam_gap);
-    assert!(r.distance_beyond_seams < 1e-12, "{:e}", r.distance_beyond_seams);
-    match curve_and_write(&inputs("igs"), &options(3), &outputs("b.msh"), &mut |_| {}) {
+    for (ext, stated) in [("step", 5e-6), ("igs", 3.88417e-6)] {
+        let geometry = fixture(&format!("sphere_on_block.{ext}"));
+        let finished = curve_and_write(
+            &inputs(&geometry),
+            &options(3),
+            &outputs("a.msh"),
+            &mut |_| {},
+        )
+        .unwrap_or_else(|e| panic!("{ext}: {e}"));
+        assert!(finished.defects.is_empty(), "{ext}: {:?}", finished.defects);
+        let r = &finished.curved.report;
+        assert_eq!(r.certified_valid_elements, Some(r.elements), "{ext}");
+        let u = r.geometry_uncertainty.unwrap();
+        assert!((u - stated).abs() < 1e-7 * stated, "{ext}: {u:e}");
+        assert!(
+            r.max_seam_gap > 1e-6 && r.max_seam_gap <= u,
+            "{ext}: {:e}",
+            r.max_seam_gap
+        );
+        assert!(r.max_geometry_distance <= u, "{ext}");
+        assert!(
+            r.distance_beyond_seams < 1e-12,
+            "{ext}: {:e}",
+            r.distance_beyond_seams
+        );
+    }
+    let text = std::fs::read_to_string(fixture("sphere_on_block.step")).unwrap();
+    let strict = text.replace("LENGTH_MEASURE(5.E-06)", "LENGTH_MEASURE(1.E-07)");
+    assert_ne!(strict, text);
+    let geometry = dir.path().join("strict.step");
+    std::fs::write(&geometry, strict).unwrap();
+    match curve_and_write(
+        &inputs(&geometry),
+        &options(3),
+        &outputs("b.msh"),
+        &mut |_| {},
+    ) {
         Err(JobError::Rejected { reason, .. }) => {
-            assert!(reason.contains("to which the file says they meet"), "{reason}");
+            assert!(
+                reason.contains("to which the file says they meet"),
+                "{reason}"
+            );
         }
         Err(e) => panic!("{e}"),
-        Ok(_) => panic!("the IGES export's faces are farther apart than it says"),
+        Ok(_) => panic!("the faces are farther apart than the file says"),
     }
     assert!(!dir.path().join("b.msh").exists());
 }

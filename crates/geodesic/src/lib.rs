@@ -40,7 +40,8 @@ pub use closed_form::ClosedFormGeodesic;
 pub use path::GeodesicPath;
 pub use placement::{
     max_distance_from_geometry, place_boundary_nodes, place_boundary_nodes_with,
-    project_nodes_onto_geometry, BoundaryNodeStrategy, GeometryDistance, BoundaryTargets, PlacementOptions,
+    project_nodes_onto_geometry, BoundaryNodeStrategy, BoundaryTargets, GeometryDistance,
+    PlacementOptions,
 };
 
 /// What went wrong while putting boundary nodes on the geometry.

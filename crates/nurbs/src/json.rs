@@ -293,7 +293,10 @@ pub fn parse_geometry_json(text: &str) -> Result<GeometryModel, GeometryInputErr
         first_use.insert(entity.name.clone(), index);
         entities.push(entity);
     }
-    Ok(GeometryModel { entities, uncertainty: None })
+    Ok(GeometryModel {
+        entities,
+        uncertainty: None,
+    })
 }
 
 /// Reads and parses a JSON geometry file; entity origins name the file.

@@ -138,12 +138,27 @@ pub fn project_nodes_onto_geometry(
     let moved: Vec<([f64; 3], GeometryDistance)> = work
         .par_iter()
         .map(|&(n, es)| {
-            let y = match placed.get(&n) {
-                Some(&y) => y,
-                None => crate::association::snap_onto(geometry, es, nodes[n as usize]),
+            let snapped = |x: [f64; 3]| {
+                let y = crate::association::snap_onto(geometry, es, x);
+                let y = onto_one_where_apart(geometry, es, y, size);
+                (y, node_distance(geometry, y, es, size))
             };
-            let y = onto_one_where_apart(geometry, es, y, size);
-            (y, node_distance(geometry, y, es, size))
+            let Some(&p) = placed.get(&n) else {
+                return snapped(nodes[n as usize]);
+            };
+            let p = onto_one_where_apart(geometry, es, p, size);
+            let at_p = node_distance(geometry, p, es, size);
+            if at_p.beyond_seams <= ROUND_OFF * size {
+                return (p, at_p);
+            }
+            // Where the seam's trace did not settle on both faces, the snap from it may
+            // do better (or slide along faces that stay close): the nearer of the two.
+            let (s, at_s) = snapped(p);
+            if at_s.beyond_seams < at_p.beyond_seams {
+                (s, at_s)
+            } else {
+                (p, at_p)
+            }
         })
         .collect();
     let mut largest = GeometryDistance::default();

@@ -337,10 +337,7 @@ fn a_thin_spherical_triangle_gets_its_small_angle_opened_to_the_limit() {
                 on.corrected_edge_vertices,
                 vec![[a.min(b), a.max(b)], [a.min(c), a.max(c)]]
             );
-            assert!(
-                after > 9.5 && after < 20.5 - before,
-                "{before} -> {after}"
-            );
+            assert!(after > 9.5 && after < 20.5 - before, "{before} -> {after}");
             continue;
         }
         assert_eq!(

@@ -49,7 +49,10 @@ fn model(slope: f64, with_rim: bool) -> GeometryModel {
         rim.analytic = Some(AnalyticShape::new_circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("c"));
         entities.push(rim);
     }
-    GeometryModel { entities, uncertainty: None }
+    GeometryModel {
+        entities,
+        uncertainty: None,
+    }
 }
 
 /// A can of `n` prisms about the z axis: bottom triangles on the plane z = slope · x

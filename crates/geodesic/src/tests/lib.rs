@@ -21,7 +21,10 @@ pub(crate) fn sphere_model(name: &str, radius: f64) -> GeometryModel {
         EntityGeometry::Surface(sphere([0.0; 3], radius).expect("sphere")),
     );
     e.analytic = Some(AnalyticShape::new_sphere([0.0; 3], radius).expect("sphere"));
-    GeometryModel { entities: vec![e], uncertainty: None }
+    GeometryModel {
+        entities: vec![e],
+        uncertainty: None,
+    }
 }
 
 fn group_facets(mesh: &LinearMesh, name: &str) -> Vec<bool> {
@@ -335,7 +338,10 @@ mod placement {
         );
         e.analytic =
             Some(AnalyticShape::new_circle([0.5, 0.0, 0.0], [0.0, 0.0, 1.0], 10.0).unwrap());
-        let model = GeometryModel { entities: vec![e], uncertainty: None };
+        let model = GeometryModel {
+            entities: vec![e],
+            uncertainty: None,
+        };
         let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
         assert!(a.by_name > 10);
         let mesh = HighOrderMesh::from_linear(&linear, 5, NodeFamily::Fekete).unwrap();

@@ -82,10 +82,9 @@ impl Converter<'_> {
                 let Some(m) = i.record("UNCERTAINTY_MEASURE_WITH_UNIT") else {
                     continue;
                 };
-                let (Some(value), Some(unit)) = (
-                    m.params.first().and_then(StepValue::real),
-                    m.params.get(1),
-                ) else {
+                let (Some(value), Some(unit)) =
+                    (m.params.first().and_then(StepValue::real), m.params.get(1))
+                else {
                     continue;
                 };
                 let unit = self.get(unit, i)?;
