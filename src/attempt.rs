@@ -10,7 +10,9 @@ use hocurve_elastic::{
     solve_displacement_from, solve_displacement_stiffened, solve_displacement_with_progress,
     BoundaryConditions, ElasticSolution, SolverKind, SolverOptions,
 };
-use hocurve_geodesic::{place_boundary_nodes_with, project_nodes_onto_geometry, PlacementOptions};
+use hocurve_geodesic::{
+    place_boundary_nodes_with, project_nodes_onto_geometry, GeometryDistance, PlacementOptions,
+};
 use hocurve_mesh::{HighOrderMesh, LinearMesh};
 use hocurve_nodes::NodeFamily;
 use hocurve_quality::MeshQuality;
@@ -77,11 +79,10 @@ pub(crate) struct Attempt {
     pub(crate) mesh: HighOrderMesh,
     /// The boundary placement (None: no geometry).
     pub(crate) targets: Option<hocurve_geodesic::BoundaryTargets>,
-    /// Largest distance of a curved-boundary node of `mesh` from its entities.
-    pub(crate) max_geometry_distance: f64,
-    /// The same beyond the separation of the entities at nodes on several (the seams of
-    /// faces the file says meet only to its uncertainty), and the largest such separation.
-    pub(crate) seams: (f64, f64),
+    /// How far the curved-boundary nodes of `mesh` are from their entities: at most, and
+    /// beyond the separation of the entities at nodes on several (the seams of faces the
+    /// file says meet only to its uncertainty).
+    pub(crate) max_geometry_distance: GeometryDistance,
     /// The geometry file's stated uncertainty (None: none stated, or no geometry).
     pub(crate) uncertainty: Option<f64>,
     /// Nodes sliding in a plane or along a line.
@@ -119,8 +120,7 @@ impl Attempt {
         Attempt {
             mesh: straight.clone(),
             targets: None,
-            max_geometry_distance: 0.0,
-            seams: (0.0, 0.0),
+            max_geometry_distance: GeometryDistance::default(),
             uncertainty: None,
             sliding_nodes: 0,
             sliding_groups: Vec::new(),
@@ -283,8 +283,11 @@ impl Attempt {
         for (&n, &x) in &targets.targets {
             mesh.nodes[n as usize] = x;
         }
-        attempt.max_geometry_distance = targets.max_geometry_distance;
-        attempt.seams = (targets.max_geometry_distance, 0.0);
+        attempt.max_geometry_distance = GeometryDistance {
+            max: targets.max_geometry_distance,
+            beyond_seams: targets.max_geometry_distance,
+            max_seam_gap: 0.0,
+        };
         attempt.mesh = mesh;
         attempt.targets = Some(targets);
         Ok(attempt)
@@ -330,8 +333,7 @@ impl Attempt {
                 &targets.equispaced_feature_nodes,
                 &mut self.mesh.nodes,
             )?;
-            self.max_geometry_distance = distance.max;
-            self.seams = (distance.beyond_seams, distance.max_seam_gap);
+            self.max_geometry_distance = distance;
             self.uncertainty = geometry.model.uncertainty;
             if let Some(before) = before {
                 // The projection moved the wall's nodes by the interpolant's distance from
@@ -387,9 +389,9 @@ impl Attempt {
             geometry_tolerance: association.map_or(0.0, |a| a.tolerance),
             max_vertex_move: association.map_or(0.0, |a| a.max_vertex_move),
             boundary_nodes_on_geometry: targets.targets.len(),
-            max_geometry_distance: self.max_geometry_distance,
-            distance_beyond_seams: self.seams.0,
-            max_seam_gap: self.seams.1,
+            max_geometry_distance: self.max_geometry_distance.max,
+            distance_beyond_seams: self.max_geometry_distance.beyond_seams,
+            max_seam_gap: self.max_geometry_distance.max_seam_gap,
             geometry_uncertainty: self.uncertainty,
             small_angle_edges: targets.small_angle_edges,
             corrected_edges: targets.corrected_edges,

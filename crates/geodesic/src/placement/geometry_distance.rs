@@ -182,14 +182,12 @@ fn onto_one_where_apart(
     if entities.len() < 2 || distance_to_all(geometry, y, entities) <= ROUND_OFF * size {
         return y;
     }
-    let nearest = entities.iter().copied().min_by(|&a, &b| {
-        let (da, db) = (
-            geometry.entities[a].distance(y),
-            geometry.entities[b].distance(y),
-        );
-        da.total_cmp(&db).then(a.cmp(&b))
-    });
-    nearest.map_or(y, |e| geometry.entities[e].nearest_point(y))
+    // (The lowest index of equally near ones.)
+    let nearest = entities
+        .iter()
+        .map(|&e| (geometry.entities[e].distance(y), e))
+        .min_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    nearest.map_or(y, |(_, e)| geometry.entities[e].nearest_point(y))
 }
 
 /// The distances of the nodes listed in `entities` from their entities.
