@@ -1,5 +1,6 @@
 //! Geodesics in closed form on the analytic surfaces that have them: great circles on a
-//! sphere, helices on a cylinder (straight lines of the unrolled cylinder). Points at a
+//! sphere, helices on a cylinder and straight lines of the unrolled cone (both surfaces
+//! develop onto the plane isometrically). Points at a
 //! fraction of the length come from the two end points alone — no chart, so no seam or
 //! pole — and lie on the surface to rounding; the paper's bisector refinement (Eq. (5),
 //! [`crate::GeodesicPath`]) converges to the same curve and stays the route for every other
@@ -27,10 +28,21 @@ pub enum ClosedFormGeodesic {
         /// Radius.
         radius: f64,
     },
+    /// Circular cone: unrolled about its apex into a plane sector (a point at distance s
+    /// from the apex and angle θ about the axis goes to polar coordinates (s, θ sin α)),
+    /// geodesics are straight segments there.
+    Unrolled {
+        /// The apex.
+        apex: [f64; 3],
+        /// Orthonormal frame (e1, e2, axis), the axis into the nappe.
+        frame: [[f64; 3]; 3],
+        /// Half-angle α.
+        half_angle: f64,
+    },
 }
 
 impl ClosedFormGeodesic {
-    /// The closed form of `shape`'s geodesics, if it has one (spheres and cylinders).
+    /// The closed form of `shape`'s geodesics, if it has one (spheres, cylinders, cones).
     pub fn of(shape: &AnalyticShape) -> Option<Self> {
         match *shape {
             AnalyticShape::Sphere { center, radius } => Some(Self::GreatCircle { center, radius }),
@@ -42,6 +54,15 @@ impl ClosedFormGeodesic {
                 point,
                 frame: orthonormal_frame(axis).ok()?,
                 radius,
+            }),
+            AnalyticShape::Cone {
+                apex,
+                axis,
+                half_angle,
+            } => Some(Self::Unrolled {
+                apex,
+                frame: orthonormal_frame(axis).ok()?,
+                half_angle,
             }),
             _ => None,
         }
@@ -55,6 +76,10 @@ impl ClosedFormGeodesic {
     /// Cylinder, with angles θ about the axis and heights z: θ(f) = θ_a + f Δθ (Δθ the
     /// shorter way round, in (−π, π]) and z(f) = z_a + f Δz, whose length is
     /// f √((rΔθ)² + Δz²).
+    /// Cone, with distances s from the apex and angles θ about the axis: in the unrolled
+    /// plane A = s_a e^{iθ_a sin α}, B = s_b e^{i(θ_a + Δθ) sin α} (Δθ the shorter way round,
+    /// so the sector angle |Δθ| sin α < π and the segment misses the apex), the point is
+    /// A + f (B − A), rolled back up.
     pub fn at_fraction(&self, a: [f64; 3], b: [f64; 3], fraction: f64) -> [f64; 3] {
         let f = fraction.clamp(0.0, 1.0);
         match *self {
@@ -94,12 +119,7 @@ impl ClosedFormGeodesic {
                     (dot(d, e2).atan2(dot(d, e1)), dot(d, axis))
                 };
                 let ((theta_a, z_a), (theta_b, z_b)) = (cylindrical(a), cylindrical(b));
-                let mut turn = theta_b - theta_a;
-                if turn > std::f64::consts::PI {
-                    turn -= std::f64::consts::TAU;
-                } else if turn <= -std::f64::consts::PI {
-                    turn += std::f64::consts::TAU;
-                }
+                let turn = shorter_turn(theta_b - theta_a);
                 let theta = theta_a + f * turn;
                 let z = z_a + f * (z_b - z_a);
                 add(
@@ -110,7 +130,48 @@ impl ClosedFormGeodesic {
                     ),
                 )
             }
+            Self::Unrolled {
+                apex,
+                frame: [e1, e2, axis],
+                half_angle,
+            } => {
+                let (sin, cos) = half_angle.sin_cos();
+                // (θ, s) of the point of the cone nearest x.
+                let conical = |x: [f64; 3]| {
+                    let d = sub(x, apex);
+                    let (t, u, v) = (dot(d, axis), dot(d, e1), dot(d, e2));
+                    (v.atan2(u), (u.hypot(v) * sin + t * cos).max(0.0))
+                };
+                let ((theta_a, s_a), (theta_b, s_b)) = (conical(a), conical(b));
+                let turn = shorter_turn(theta_b - theta_a);
+                // Unrolled with A on the first axis: B at angle turn · sin α.
+                let phi = turn * sin;
+                let (x, y) = (s_a + f * (s_b * phi.cos() - s_a), f * s_b * phi.sin());
+                let s = x.hypot(y);
+                let theta = theta_a + y.atan2(x) / sin;
+                add(
+                    apex,
+                    scale(
+                        add(
+                            scale(add(scale(e1, theta.cos()), scale(e2, theta.sin())), sin),
+                            scale(axis, cos),
+                        ),
+                        s,
+                    ),
+                )
+            }
         }
+    }
+}
+
+/// An angle difference (of two angles in (−π, π]) as the shorter turn, in (−π, π].
+fn shorter_turn(turn: f64) -> f64 {
+    if turn > std::f64::consts::PI {
+        turn - std::f64::consts::TAU
+    } else if turn <= -std::f64::consts::PI {
+        turn + std::f64::consts::TAU
+    } else {
+        turn
     }
 }
 

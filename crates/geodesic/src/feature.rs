@@ -406,6 +406,7 @@ fn foot_on_tangent_seam(
         let b = (hp - hm) / (2.0 * step);
         let c = (hp - 2.0 * h0 + hm) / (2.0 * step * step);
         let discriminant = b * b - 4.0 * c * h0;
+        let mut at_vertex = false;
         let delta = if c.abs() * step <= 1e-3 * b.abs() {
             -h0 / b
         } else if discriminant >= 0.0
@@ -420,8 +421,17 @@ fn foot_on_tangent_seam(
                 r2
             }
         } else {
+            at_vertex = true;
             -b / (2.0 * c)
         };
+        if at_vertex && delta.abs() <= (noise / c.abs()).sqrt().min(step) {
+            // At a minimum of h (surfaces touching, not crossing) its vertex is fixed only
+            // to √(round-off / c) across the seam: a step within that, inside the stencil,
+            // is the seam (closer steps fit parabolas through noise and wander). Off each
+            // surface by ~ the round-off of h there.
+            let (_, y_next, q_next) = feet(centre + delta, params)?;
+            return Some(scale(add(y_next, q_next), 0.5));
+        }
         if !delta.is_finite() {
             // h constant: the faces coincide here (one surface split in two faces), or
             // never meet.

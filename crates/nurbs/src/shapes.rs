@@ -1,4 +1,4 @@
-//! Exact rational NURBS of circles, spheres, cylinders and tori (Piegl & Tiller Ch. 7–8:
+//! Exact rational NURBS of circles, spheres, cylinders, cones and tori (Piegl & Tiller Ch. 7–8:
 //! the nine-point quadratic circle and surfaces of revolution), and the same shapes as
 //! [`AnalyticShape`]s with closed-form closest points (the fast path for point projection).
 //!
@@ -172,6 +172,46 @@ pub fn cylinder(
     )
 }
 
+/// Checks a cone's half-angle: in (0, π/2).
+fn check_half_angle(half_angle: f64) -> Result<(), NurbsError> {
+    if half_angle > 0.0 && half_angle < 0.5 * PI {
+        Ok(())
+    } else {
+        Err(NurbsError::InvalidShape {
+            shape: "cone",
+            reason: format!("half-angle {half_angle} (radians) must be in (0, π/2)"),
+        })
+    }
+}
+
+/// The piece `axial_range.0 ≤ h ≤ axial_range.1` (0 ≤ h₀ < h₁, heights from the apex along
+/// `axis`) of the cone with `apex` opening along `axis` at `half_angle`: radius h tan α at
+/// height h; v ∈ [0, 1] is linear in h.
+pub fn cone(
+    apex: [f64; 3],
+    axis: [f64; 3],
+    half_angle: f64,
+    axial_range: (f64, f64),
+) -> Result<NurbsSurface, NurbsError> {
+    check_half_angle(half_angle)?;
+    let (h0, h1) = axial_range;
+    if !(h0.is_finite() && h1.is_finite() && 0.0 <= h0 && h0 < h1) {
+        return Err(NurbsError::InvalidShape {
+            shape: "cone",
+            reason: format!("axial range [{h0}, {h1}] must satisfy 0 ≤ h₀ < h₁"),
+        });
+    }
+    let t = half_angle.tan();
+    revolve(
+        apex,
+        axis,
+        1,
+        &[0.0, 0.0, 1.0, 1.0],
+        &[[h0 * t, h0], [h1 * t, h1]],
+        &[1.0, 1.0],
+    )
+}
+
 /// The torus about `center` and `axis` with distance `major_radius` from the axis to the tube
 /// centre and tube radius `minor_radius < major_radius`; v ∈ [0, 1] goes once around the tube,
 /// starting on the outer equator.
@@ -215,6 +255,13 @@ pub enum AnalyticShape {
         point: [f64; 3],
         axis: [f64; 3],
         radius: f64,
+    },
+    /// One nappe of an infinite circular cone: the points at height h ≥ 0 above `apex`
+    /// along `axis` and radius h tan(`half_angle`) from it.
+    Cone {
+        apex: [f64; 3],
+        axis: [f64; 3],
+        half_angle: f64,
     },
     /// Torus: tube of `minor_radius` around the circle of `major_radius` about `axis`.
     Torus {
@@ -265,6 +312,18 @@ impl AnalyticShape {
         })
     }
 
+    /// Validates the half-angle (in (0, π/2)) and normalises the axis (pointing from the
+    /// apex into the nappe).
+    pub fn new_cone(apex: [f64; 3], axis: [f64; 3], half_angle: f64) -> Result<Self, NurbsError> {
+        check_half_angle(half_angle)?;
+        let axis = orthonormal_frame(axis)?[2];
+        Ok(Self::Cone {
+            apex,
+            axis,
+            half_angle,
+        })
+    }
+
     /// Validates the radii (`0 < minor < major`) and normalises the axis.
     pub fn new_torus(
         center: [f64; 3],
@@ -285,7 +344,8 @@ impl AnalyticShape {
     /// The closest point to `x` in closed form. The parameter is in angles, with the frame of
     /// [`orthonormal_frame`] of the axis (normal): circle `[θ, 0]`; sphere `[θ, φ]` (longitude
     /// about z, latitude in [-π/2, π/2]); cylinder `[θ, t]` (t the axial coordinate from
-    /// `point`); torus `[θ, φ]` (φ the angle around the tube, 0 on the outer equator). θ lies in
+    /// `point`); cone `[θ, s]` (s the distance from the apex along the surface); torus `[θ, φ]`
+    /// (φ the angle around the tube, 0 on the outer equator). θ lies in
     /// [0, 2π). Where the closest point is not unique (x on the axis, at the centre), one of
     /// them is returned.
     pub fn closest_point(&self, x: [f64; 3]) -> ClosestPoint<[f64; 2]> {
@@ -326,6 +386,24 @@ impl AnalyticShape {
                 let (dir, theta) = direction_in_plane(sub(d, scale(a, t)), e1, e2);
                 let point = add(add(p0, scale(a, t)), scale(dir, radius));
                 closest([theta, t], point, x)
+            }
+            Self::Cone {
+                apex,
+                axis,
+                half_angle,
+            } => {
+                // In the half-plane through the axis and x: the foot on the generator
+                // (sin α, cos α) in (radial, axial) coordinates, the apex where that foot
+                // would lie beyond it (x inside the cone's polar cone).
+                let [e1, e2, a] = frame(axis);
+                let d = sub(x, apex);
+                let t = dot(d, a);
+                let (dir, theta) = direction_in_plane(sub(d, scale(a, t)), e1, e2);
+                let rho = dot(d, dir);
+                let (sin, cos) = half_angle.sin_cos();
+                let along = (rho * sin + t * cos).max(0.0);
+                let point = add(apex, scale(add(scale(dir, sin), scale(a, cos)), along));
+                closest([theta, along], point, x)
             }
             Self::Torus {
                 center,

@@ -341,3 +341,77 @@ fn an_edge_across_two_faces_of_one_cylinder_follows_the_cylinder() {
     assert!((radius - 1.0).abs() < 1e-12, "{middle:?}");
     assert!((middle[2] - 0.85).abs() < 1e-3, "{middle:?}");
 }
+
+/// A cone standing tangent on a torus (major radius 1, tube 0.25, axis z) along the circle
+/// where the tube's normal is at 60° above the equator: radius 1.125, height √3/8; the cone
+/// shifted `gap` off the torus along that normal, as OpenCASCADE writes a fillet's torus
+/// beside the cone it rounds (apart by 7e-13 in a part's STEP file). The cone is its NURBS
+/// alone unless `closed_form`; the file states an uncertainty of 1e-7, as OCC writes.
+fn cone_on_torus(gap: f64, closed_form: bool) -> GeometryModel {
+    let (sin, cos) = (PI / 3.0).sin_cos();
+    // The generator through the tube point (1 + 0.25 cos 60°, 0.25 sin 60°) along its
+    // tangent (−sin 60°, cos 60°) meets the axis at the apex; moved up by gap / sin 60°.
+    let seam = [1.0 + 0.25 * cos, 0.25 * sin];
+    let apex = [0.0, 0.0, seam[1] + seam[0] * cos / sin + gap / sin];
+    let (axis, half_angle) = ([0.0, 0.0, -1.0], PI / 3.0);
+    let cone_height = apex[2] - seam[1];
+    let nurbs = hocurve_nurbs::shapes::cone(apex, axis, half_angle, (0.5 * cone_height, apex[2]))
+        .expect("cone");
+    let mut cone = GeometricEntity::new("cone", "test", EntityGeometry::Surface(nurbs));
+    if closed_form {
+        cone.analytic = Some(AnalyticShape::new_cone(apex, axis, half_angle).expect("cone"));
+    }
+    let mut torus = GeometricEntity::new(
+        "torus",
+        "test",
+        EntityGeometry::Surface(
+            hocurve_nurbs::shapes::torus([0.0; 3], [0.0, 0.0, 1.0], 1.0, 0.25).expect("torus"),
+        ),
+    );
+    torus.analytic =
+        Some(AnalyticShape::new_torus([0.0; 3], [0.0, 0.0, 1.0], 1.0, 0.25).expect("torus"));
+    GeometryModel {
+        entities: vec![cone, torus],
+        uncertainty: Some(1e-7),
+    }
+}
+
+#[test]
+fn a_seam_where_a_cone_touches_a_torus_to_round_off_is_traced_on_both() {
+    // The offset across such a seam has a minimum of ~gap, above round-off: its vertex is
+    // the seam, fixed only to √(round-off / curvature) across it. The parabola steps found
+    // it but never stopped (waiting for a step below round-off), so the nodes fell back on
+    // alternating projections, which crept: 3.5e-3 up the torus, 7.5e-5 off the cone.
+    let (radius, height) = (1.0 + 0.25 * (PI / 3.0).cos(), 0.25 * (PI / 3.0).sin());
+    for closed_form in [false, true] {
+        for gap in [0.0, 7e-13] {
+            let geometry = cone_on_torus(gap, closed_form);
+            let (a, b) = ([radius, 0.0, height], [0.0, radius, height]);
+            let curve = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);
+            let nodes: Vec<[f64; 3]> = [0.1, 0.25, 0.5, 0.9].iter().map(|&f| curve.at(f)).collect();
+            for x in curve.points.iter().chain(&nodes) {
+                for e in &geometry.entities {
+                    let d = e.distance(*x);
+                    assert!(
+                        d <= gap + 1e-13,
+                        "closed form {closed_form}, gap {gap}: {x:?} {d:e} from {}",
+                        e.name
+                    );
+                }
+                // On the seam circle, to √(1e-14 of the model / the offset's curvature).
+                let off = ((x[0].hypot(x[1]) - radius).hypot(x[2] - height)).abs();
+                assert!(
+                    off < 1e-6,
+                    "closed form {closed_form}, gap {gap}: {x:?} {off:e}"
+                );
+            }
+            // Equal fractions of the quarter circle, to the trace's resolution: its length
+            // stops converging at the points' own scatter along the seam (~1e-7), after a
+            // few halvings, and nodes between its points follow its chords.
+            let angle = |x: [f64; 3]| x[1].atan2(x[0]);
+            for (f, x) in [0.1, 0.25, 0.5, 0.9].iter().zip(&nodes) {
+                assert!((angle(*x) - f * 0.5 * PI).abs() < 1e-3, "{f}: {x:?}");
+            }
+        }
+    }
+}

@@ -117,6 +117,11 @@ pub(crate) fn transform_shape(shape: AnalyticShape, t: &Affine) -> Option<Analyt
             axis,
             radius,
         } => AnalyticShape::new_cylinder(apply(t, point), apply_linear(t, axis), s * radius),
+        AnalyticShape::Cone {
+            apex,
+            axis,
+            half_angle,
+        } => AnalyticShape::new_cone(apply(t, apex), apply_linear(t, axis), half_angle),
         AnalyticShape::Torus {
             center,
             axis,

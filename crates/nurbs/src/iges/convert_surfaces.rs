@@ -133,7 +133,7 @@ impl<'a> Converter<'a> {
     }
 
     /// The closed form of a whole revolution of `generatrix` about the axis through `origin`
-    /// along the unit `a`: a sphere, torus or cylinder, when the generatrix makes one.
+    /// along the unit `a`: a sphere, torus, cylinder or cone, when the generatrix makes one.
     fn revolved_shape(
         &self,
         generatrix: &IgesEntity,
@@ -170,8 +170,28 @@ impl<'a> Converter<'a> {
                 let radius = off_axis(p);
                 let tol = RECOGNITION_TOLERANCE * (radius + norm(sub(p, origin)));
                 let parallel = norm(cross(d, a)) <= RECOGNITION_TOLERANCE * norm(d);
-                (parallel && radius > tol && (off_axis(q) - radius).abs() <= tol)
-                    .then(|| AnalyticShape::new_cylinder(foot(p), a, radius))?
+                if parallel {
+                    return (radius > tol && (off_axis(q) - radius).abs() <= tol)
+                        .then(|| AnalyticShape::new_cylinder(foot(p), a, radius))?
+                        .ok();
+                }
+                // A cone: the line meets the axis (lies in a plane through it) at the apex,
+                // where the radius, linear in the height along the line, reaches zero; the
+                // segment on one side of it.
+                let height = |x: [f64; 3]| dot(sub(x, origin), a);
+                let (hp, hq, rq) = (height(p), height(q), off_axis(q));
+                let coplanar = dot(sub(p, origin), cross(d, a)).abs() <= tol * norm(d);
+                if !coplanar || (rq - radius).abs() <= tol || (hq - hp).abs() <= tol {
+                    return None;
+                }
+                let slope = (rq - radius) / (hq - hp);
+                let apex_height = hp - radius / slope;
+                let apex = add(origin, scale(a, apex_height));
+                let ahead = |x: [f64; 3]| (height(x) - apex_height) * slope.signum();
+                (ahead(p) >= -tol && ahead(q) >= -tol)
+                    .then(|| {
+                        AnalyticShape::new_cone(apex, scale(a, slope.signum()), slope.abs().atan())
+                    })?
                     .ok()
             }
             _ => None,

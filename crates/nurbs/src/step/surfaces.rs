@@ -192,9 +192,13 @@ impl<'a> Converter<'a> {
                     )
                 };
                 let g = line_segment(at(v0), at(v1)).map_err(|e| fail(e.to_string()))?;
+                // The nappe holding the face opens from the apex along ±z with the sign
+                // of the angle.
+                let axis = if angle > 0.0 { f.z } else { scale(f.z, -1.0) };
                 (
                     revolve_curve(&g, f.origin, f.z, 0.0, TAU).map_err(|e| fail(e.to_string()))?,
-                    None,
+                    AnalyticShape::new_cone(add(f.origin, scale(f.z, apex)), axis, angle.abs())
+                        .ok(),
                 )
             }
             "SURFACE_OF_REVOLUTION" => {

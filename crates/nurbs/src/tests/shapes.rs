@@ -69,6 +69,48 @@ fn torus_and_cylinder_satisfy_their_implicit_equations() {
 }
 
 #[test]
+fn a_cone_satisfies_its_implicit_equation_and_its_closest_points_are_exact() {
+    let (apex, axis, alpha) = ([0.5, -1.0, 2.0], [1.0, 2.0, -2.0], 0.4f64);
+    let a = scale(axis, 1.0 / 3.0);
+    let nurbs = cone(apex, axis, alpha, (0.25, 1.5)).unwrap();
+    let shape = AnalyticShape::new_cone(apex, axis, alpha).unwrap();
+    let mut seed = 11;
+    for _ in 0..2000 {
+        let (u, v) = (lcg(&mut seed), lcg(&mut seed));
+        // |d_⊥| = (d·a) tan α, with d·a linear in v from 0.25 to 1.5.
+        let d = sub(nurbs.point(u, v), apex);
+        let h = dot(d, a);
+        let rho = norm(sub(d, scale(a, h)));
+        assert!((rho - h * alpha.tan()).abs() < 1e-14, "{u} {v}");
+        assert!((h - (0.25 + 1.25 * v)).abs() < 1e-14);
+        // A point off the cone along its normal there comes back to it, at the offset.
+        let normal = scale(
+            sub(
+                scale(sub(d, scale(a, h)), alpha.cos() / rho),
+                scale(a, alpha.sin()),
+            ),
+            1.0,
+        );
+        let p = add(apex, d);
+        for offset in [-0.1, 0.05] {
+            let cp = shape.closest_point(add(p, scale(normal, offset)));
+            assert!(vec3::distance(cp.point, p) < 1e-14, "{u} {v} {offset}");
+            assert!((cp.distance - offset.abs()).abs() < 1e-14);
+            assert!((cp.param[1] - h / alpha.cos()).abs() < 1e-13);
+        }
+    }
+    // Inside the polar cone behind the apex, the apex is nearest.
+    let behind = sub(apex, scale(a, 0.7));
+    let cp = shape.closest_point(behind);
+    assert!(vec3::distance(cp.point, apex) < 1e-15);
+    assert!((cp.distance - 0.7).abs() < 1e-15);
+    assert!(AnalyticShape::new_cone(apex, axis, 0.5 * PI).is_err());
+    assert!(AnalyticShape::new_cone(apex, axis, 0.0).is_err());
+    assert!(cone(apex, axis, alpha, (-1.0, 1.0)).is_err());
+    assert!(cone(apex, axis, alpha, (1.0, 1.0)).is_err());
+}
+
+#[test]
 fn analytic_closest_points() {
     let sphere = AnalyticShape::new_sphere([1.0, 0.0, 0.0], 2.0).unwrap();
     let cp = sphere.closest_point([1.0, 0.0, 5.0]);

@@ -340,7 +340,21 @@ fn revolved_line_is_an_exact_cone() {
         // axis and generatrix are referenced: only the 120 stands alone
         assert_eq!(model.counts(), (0, 1));
         let e = &model.entities[0];
-        assert!(e.analytic.is_none(), "a cone has no closed form here");
+        // The whole turn has the closed form: apex (0, 0, −3), opening up at atan(1/3).
+        match e.analytic {
+            Some(AnalyticShape::Cone {
+                apex,
+                axis,
+                half_angle,
+            }) => {
+                assert_eq!(pieces, 4);
+                assert!(distance(apex, [0.0, 0.0, -3.0]) < 1e-12, "{apex:?}");
+                assert!(distance(axis, [0.0, 0.0, 1.0]) < 1e-15);
+                assert!((half_angle - (1.0f64 / 3.0).atan()).abs() < 1e-15);
+            }
+            None => assert_eq!(pieces, 3, "only a whole turn is the closed form"),
+            other => panic!("{other:?}"),
+        }
         let s = surface(e);
         assert_eq!(s.n_u(), 2 * pieces + 1);
         let ((u0, u1), _) = s.domain();

@@ -70,16 +70,32 @@ fn analytic_faces_are_exact() {
                 assert!(z > 2.0 && z < 2.5, "{z}");
                 found.2 += 1;
             }
-            Some(other) => panic!("unexpected {other:?}"),
-            None if e.origin.contains("CONICAL_SURFACE") => {
-                // Radius 0.4 at z = 1 down to 0.1 at z = 2, about the axis x = y = 1.
+            Some(
+                shape @ AnalyticShape::Cone {
+                    apex,
+                    axis,
+                    half_angle,
+                },
+            ) => {
+                // Radius 0.4 at z = 1 down to 0.1 at z = 2, about the axis x = y = 1: the
+                // apex where it reaches 0, the nappe opening downwards.
+                assert!(e.origin.contains("CONICAL_SURFACE"), "{}", e.origin);
+                let slope = 0.291456794478f64.tan();
+                assert!(
+                    distance(apex, [1.0, 1.0, 1.0 + 0.4 / slope]) < 1e-12,
+                    "{apex:?}"
+                );
+                assert_eq!((axis, half_angle), ([0.0, 0.0, -1.0], 0.291456794478));
                 let cone = |x: [f64; 3]| {
                     let r = (x[0] - 1.0).hypot(x[1] - 1.0);
-                    (r - (0.4 + (1.0 - x[2]) * 0.291456794478f64.tan())).abs()
+                    (r - (0.4 + (1.0 - x[2]) * slope)).abs()
                 };
                 assert!(gap(&cone) < 1e-14, "cone gap {:e}", gap(&cone));
+                let closed_form = |x: [f64; 3]| shape.closest_point(x).distance;
+                assert!(gap(&closed_form) < 1e-14, "{:e}", gap(&closed_form));
                 found.3 += 1;
             }
+            Some(other) => panic!("unexpected {other:?}"),
             None => assert!(e.origin.contains("PLANE"), "{}", e.origin),
         }
     }
