@@ -402,6 +402,7 @@ impl Attempt {
             refined_elements: 0,
             quadrilaterals_split: 0,
             surface_edges_split: 0,
+            facet_edges_split: 0,
             doubly_curved_cells: Vec::new(),
             doubly_curved_cell_tags: Vec::new(),
             uncertified_after_solve: 0,

@@ -321,14 +321,45 @@ fn refine_and_curve(
         }
         let base = curved.split_input.as_ref().unwrap_or(linear);
         let chords = crate::precurving::longest_chords(base, &failing);
-        let (split, count) = base.split_edges(&chords);
-        if count == 0 {
+        // Cells without a chord: their longest edge on curved facets, split on the geometry
+        // (chords are on no facet, so splitting them first leaves these edges whole).
+        let facet_edges = match geometry {
+            Some(geometry) => {
+                let association = associate_boundary(
+                    base,
+                    geometry.model,
+                    geometry.rule,
+                    options.geometry_tolerance,
+                )?;
+                crate::precurving::longest_curved_facet_edges(
+                    base,
+                    &association,
+                    geometry.model,
+                    &failing,
+                )
+            }
+            None => Vec::new(),
+        };
+        let (mut split, count) = base.split_edges(&chords);
+        // One at a time, each kept only if every cell stays the right way round: two
+        // edges of one cell moved onto a surface that bends can fold it together.
+        let mut facet_count = 0;
+        for edge in &facet_edges {
+            let (next, n) = split.split_edges_at(std::slice::from_ref(edge));
+            if n > 0 && next.check_orientation().is_ok() {
+                split = next;
+                facet_count += n;
+            }
+        }
+        if count + facet_count == 0 {
             break;
         }
         progress(Progress::Step(Step::Refinement));
-        let Once::Curved(again) = curve_mesh_once(&split, geometry, options, progress, false)?
-        else {
-            unreachable!("nothing is deferred when not asked");
+        // A split mesh that cannot be curved leaves the result as it was.
+        let again = match curve_mesh_once(&split, geometry, options, progress, false) {
+            Ok(Once::Curved(again)) => again,
+            Ok(Once::Deferred(_)) => unreachable!("nothing is deferred when not asked"),
+            Err(_) => break,
         };
         let mut again = *again;
         let (now, before) = (score(&again.quality), score(&curved.quality));
@@ -337,6 +368,7 @@ fn refine_and_curve(
         }
         let before = &curved.report;
         again.report.edges_split += before.edges_split + count;
+        again.report.facet_edges_split += before.facet_edges_split + facet_count;
         again.report.quadrilaterals_split += before.quadrilaterals_split;
         again.report.surface_edges_split += before.surface_edges_split;
         again.report.unused_node_tags = before.unused_node_tags.clone();

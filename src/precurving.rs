@@ -265,8 +265,15 @@ pub(crate) fn facet_edges_opposite_rim_corners(
             ([a, b], model.entities[surface].nearest_point(mid))
         })
         .collect();
-    // Keep only positions that leave both halves of every cell around the edge a fair
-    // share of its volume, with its orientation.
+    fair_splits(linear, &mut positions);
+    positions.into_iter().map(|(e, q)| (e, Some(q))).collect()
+}
+
+/// Keeps only the split positions that leave both halves of every tetrahedron around their
+/// edge at least a hundredth of its volume, with its orientation (a surface bending sharply
+/// over the edge would fold one half).
+fn fair_splits(linear: &LinearMesh, positions: &mut BTreeMap<[u32; 2], [f64; 3]>) {
+    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
     let mut keep: BTreeMap<[u32; 2], bool> = positions.keys().map(|&e| (e, true)).collect();
     for cell in &linear.cells {
         if cell.kind != hocurve_mesh::Shape::Tet || cell.vertices.len() != 4 {
@@ -294,6 +301,93 @@ pub(crate) fn facet_edges_opposite_rim_corners(
         }
     }
     positions.retain(|e, _| keep.get(e).copied().unwrap_or(false));
+}
+
+/// For each simplex among `cells` (positions in `linear`) that has no chord (see
+/// [`longest_chords`]: all its vertices on one curved facet, or its boundary edges all on
+/// facets), its longest edge on curved facets that the geometry bends (the midpoint moves
+/// onto it by more than 1e-6 of the length), with the new vertex there: the midpoint moved
+/// onto the facets' entity, or onto the intersection of their entities for an edge on a
+/// feature curve. Curving folds such a cell where its curved facet spans too
+/// much of the surface (a facet across a fillet, a hole rim of few segments) and no
+/// interior chord is there to split; halving the facet's longest edge halves that span.
+/// Splits that would leave a cell around the edge with less than a hundredth of its volume
+/// in either half are left out. Lower vertex id first, sorted.
+pub(crate) fn longest_curved_facet_edges(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+    model: &hocurve_nurbs::GeometryModel,
+    cells: &[usize],
+) -> Vec<([u32; 2], Option<[f64; 3]>)> {
+    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
+    // The entities of the curved facets holding each facet edge.
+    let mut edge_entities: BTreeMap<[u32; 2], BTreeSet<usize>> = BTreeMap::new();
+    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
+        let Some(e) = *e else {
+            continue;
+        };
+        let v = &f.vertices;
+        let n = v.len();
+        let sides = if n == 2 { 1 } else { n };
+        for k in 0..sides {
+            edge_entities
+                .entry(key(v[k], v[(k + 1) % n]))
+                .or_default()
+                .insert(e);
+        }
+    }
+    let chords = longest_chord_of_each(linear, cells);
+    let mut positions: BTreeMap<[u32; 2], [f64; 3]> = BTreeMap::new();
+    for (&c, chord) in cells.iter().zip(chords) {
+        let Some(cell) = linear.cells.get(c) else {
+            continue;
+        };
+        if chord.is_some()
+            || !matches!(
+                cell.kind,
+                hocurve_mesh::Shape::Tri | hocurve_mesh::Shape::Tet
+            )
+        {
+            continue;
+        }
+        // The longest edge that the geometry bends: a straight one (a ruling of a
+        // cylinder, however long) folds nothing.
+        let v = &cell.vertices;
+        let mut best: Option<(f64, [u32; 2], [f64; 3])> = None;
+        for i in 0..v.len() {
+            for j in i + 1..v.len() {
+                let e = key(v[i], v[j]);
+                let Some(on) = edge_entities.get(&e) else {
+                    continue;
+                };
+                let entities: Vec<usize> = on.iter().copied().collect();
+                let (pa, pb) = (
+                    linear.vertices[e[0] as usize],
+                    linear.vertices[e[1] as usize],
+                );
+                let mid = [
+                    0.5 * (pa[0] + pb[0]),
+                    0.5 * (pa[1] + pb[1]),
+                    0.5 * (pa[2] + pb[2]),
+                ];
+                let q = hocurve_geodesic::association::snap_onto(model, &entities, mid);
+                let sagitta = (0..3).map(|d| (q[d] - mid[d]).powi(2)).sum::<f64>().sqrt();
+                let length = (0..3).map(|d| (pa[d] - pb[d]).powi(2)).sum::<f64>().sqrt();
+                // (NaN from a degenerate edge is left out too.)
+                let curved = sagitta > 1e-6 * length;
+                if !curved {
+                    continue;
+                }
+                if best.is_none_or(|(l, b, _)| length > l || (length == l && e < b)) {
+                    best = Some((length, e, q));
+                }
+            }
+        }
+        if let Some((_, e, q)) = best {
+            positions.insert(e, q);
+        }
+    }
+    fair_splits(linear, &mut positions);
     positions.into_iter().map(|(e, q)| (e, Some(q))).collect()
 }
 
@@ -550,5 +644,59 @@ mod tests {
             longest_chord_of_each(&turned, &[0, 7, 0]),
             vec![Some([1, 3]), None, Some([1, 3])]
         );
+    }
+
+    #[test]
+    fn a_cell_without_a_chord_gets_its_longest_curved_facet_edge_split_on_the_surface() {
+        use hocurve_nurbs::shapes::AnalyticShape;
+        use hocurve_nurbs::{EntityGeometry, GeometricEntity};
+        // The unit cylinder about z; a tet with its facet A B C on it and D inside: A B a
+        // ruling of length 5 (straight: splitting it would change nothing), A C and B C
+        // curved (length 2.59, C 40° round at mid-height). The tie goes to the lower pair,
+        // A C, split at its midpoint pushed out onto the cylinder: (cos 20°, sin 20°, 1.25).
+        let nurbs = hocurve_nurbs::shapes::cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0, (-1.0, 6.0))
+            .expect("cylinder");
+        let mut cylinder = GeometricEntity::new("side", "test", EntityGeometry::Surface(nurbs));
+        cylinder.analytic =
+            Some(AnalyticShape::new_cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("cylinder"));
+        let model = hocurve_nurbs::GeometryModel {
+            entities: vec![cylinder],
+            uncertainty: None,
+        };
+        let theta = 40f64.to_radians();
+        let mut mesh = hocurve_testmeshes::unit_tet();
+        mesh.vertices = vec![
+            [1.0, 0.0, 0.0],
+            [1.0, 0.0, 5.0],
+            [theta.cos(), theta.sin(), 2.5],
+            [0.3, 0.2, 2.5],
+        ];
+        // Outward (towards +x) normal: A C B.
+        mesh.cells[0].vertices = vec![0, 1, 2, 3];
+        mesh.facets = vec![Element {
+            kind: Shape::Tri,
+            vertices: vec![0, 2, 1],
+            entity: 1,
+        }];
+        let found = association(vec![Some(0)]);
+        let splits = longest_curved_facet_edges(&mesh, &found, &model, &[0]);
+        let [([0, 2], Some(q))] = splits[..] else {
+            panic!("{splits:?}");
+        };
+        let half = 0.5 * theta;
+        let expected = [half.cos(), half.sin(), 1.25];
+        assert!((0..3).all(|d| (q[d] - expected[d]).abs() < 1e-14), "{q:?}");
+        // Cells not asked about give nothing; nor does a cell with a chord (D on a
+        // neighbour's facet: A D, B D, C D run through the domain).
+        assert!(longest_curved_facet_edges(&mesh, &found, &model, &[]).is_empty());
+        mesh.vertices.push([0.0, 0.0, 9.0]);
+        mesh.vertices.push([0.0, 1.0, 9.0]);
+        mesh.facets.push(Element {
+            kind: Shape::Tri,
+            vertices: vec![3, 4, 5],
+            entity: 1,
+        });
+        let found = association(vec![Some(0), None]);
+        assert!(longest_curved_facet_edges(&mesh, &found, &model, &[0]).is_empty());
     }
 }

@@ -132,6 +132,10 @@ pub struct CurveReport {
     /// (stiffened) solve, each with a chord to split, or certified below
     /// [`crate::pipeline::REFINE_BELOW`] after the repair of the first curving.
     pub refined_elements: usize,
+    /// Boundary edges split by the refinement rounds, the new vertex on the geometry: the
+    /// longest edge on curved facets of each element not certified that has no chord (its
+    /// boundary edges all on facets: a facet spanning too much of a fillet or a hole's rim).
+    pub facet_edges_split: usize,
     /// Quadrilaterals split into two triangles before curving (two of their edges, meeting
     /// at a corner, lay on one curved entity: curved, that corner opens to 180°).
     pub quadrilaterals_split: usize,

@@ -112,6 +112,13 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             )
         });
     }
+    if r.facet_edges_split > 0 {
+        adjustments.push(format!(
+            "{} boundary edge(s) split on the geometry (longest curved-facet edges of cells \
+             not certified that have no chord)",
+            r.facet_edges_split
+        ));
+    }
     if r.surface_edges_split > 0 {
         adjustments.push(format!(
             "{} surface edge(s) split (facets with two edges on one feature curve)",
@@ -150,7 +157,8 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
     if r.refinement_rounds > 0 {
         repair.push(format!(
             "{} element(s) not certified after the solve, or certified below Ĩ {:.2} after \
-             the repair: their longest chords split and the mesh curved again ({} round(s))",
+             the repair: their longest chords (or curved-facet edges) split and the mesh \
+             curved again ({} round(s))",
             r.refined_elements,
             crate::pipeline::refine_floor(r.reshape_below),
             r.refinement_rounds

@@ -270,6 +270,40 @@ fn a_fillet_facet_crossed_by_its_curved_rim_edge_is_corrected_at_every_order() {
     }
 }
 
+/// A cone on a plate, both rims filleted (`fixtures/make_cad_fixtures.py`): OpenCASCADE's
+/// fillet tori touch the cone along circles, 7e-13 apart in its STEP file. Before: the seam
+/// solver found that seam but never stopped (its offset has a minimum above round-off), the
+/// nodes fell back on alternating projections and were written 7.5e-5 off the cone (every
+/// order refused); at p = 3 a cell whose only boundary face spans half a radian of the top
+/// fillet folded along its curved edge, with no interior chord to split. Now that edge is
+/// split on the torus and the mesh curved again.
+#[test]
+fn a_cell_folded_along_its_fillet_edge_is_refined_on_the_geometry() {
+    let dir = tempfile::tempdir().unwrap();
+    let outputs = Outputs {
+        mesh: dir.path().join("cone_plate_3.msh"),
+        report: None,
+        plots: None,
+        format: Default::default(),
+    };
+    let inputs = Inputs::read(
+        &fixture("cone_plate.msh"),
+        Some(&fixture("cone_plate.step")),
+    )
+    .unwrap();
+    let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |_| {})
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(finished.defects.is_empty(), "{:?}", finished.defects);
+    let r = &finished.curved.report;
+    assert_eq!(r.certified_valid_elements, Some(r.elements));
+    assert!(r.facet_edges_split > 0 && r.refinement_rounds > 0, "{r:?}");
+    assert!(
+        r.max_geometry_distance < 1e-11,
+        "{:e}",
+        r.max_geometry_distance
+    );
+}
+
 /// A sphere fused on a block, the joint filleted (`fixtures/make_cad_fixtures.py`):
 /// OpenCASCADE's fillet is a B-spline that meets the exact sphere only to 2e-6 (the STEP
 /// file states an uncertainty of 5e-6, the IGES a resolution of 3.88e-6) and crosses it at a

@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 27] = [
+const CASES: [Case; 28] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -228,6 +228,16 @@ const CASES: [Case; 27] = [
     // A fillet's B-spline meeting a sphere only to the STEP file's uncertainty.
     Case {
         name: "sphere_on_block",
+        geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // Fillets (tori) touching a cone: facets across the top fillet that fold unless their
+    // curved edge is split on the geometry.
+    Case {
+        name: "cone_plate",
         geometry: "step",
         group: "wall",
         full_only: false,

@@ -324,8 +324,10 @@ fn shortest_edge(mesh: &LinearMesh, vertices: &[u32]) -> f64 {
 }
 
 /// The point on all of `entities` nearest `x`: the projection for one entity; alternating
-/// projections for several (they converge linearly, fast for transversal intersections).
-pub(crate) fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [f64; 3] {
+/// projections for several (they converge linearly, fast for transversal intersections),
+/// then, where they creep (surfaces meeting tangentially), the seam solver of
+/// [`crate::feature`] if it lands closer to all of them.
+pub fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [f64; 3] {
     match entities {
         [] => x,
         [e] => geometry.entities[*e].nearest_point(x),
