@@ -237,7 +237,8 @@ pub struct CurvedMesh {
 /// and the split mesh curved again, up to [`REFINEMENT_ROUNDS`] times; otherwise, or when
 /// the split mesh does not certify, they are untangled ([`crate::repair`]). Elements still
 /// not certified after that, or certified below [`REFINE_BELOW`], are refined the same
-/// way, the result kept while it certifies more elements (or as many with a higher
+/// way — those without a chord by their longest curved facet edge, split at a point on the
+/// geometry — the result kept while it certifies more elements (or as many with a higher
 /// certified minimum).
 pub fn curve_mesh(
     linear: &LinearMesh,
@@ -269,17 +270,36 @@ fn refine_and_curve(
         && options.certify
         && options.refine
         && !options.boundary_only;
+    let floor = refine_floor(options.reshape_below);
+    // Elements left uncertified, or certified below the floor; a result is better with
+    // fewer uncertified elements, then a higher certified minimum.
+    let poor = |q: &MeshQuality| -> Vec<usize> {
+        let mut cells: BTreeSet<usize> = crate::repair::not_certified(q).into_iter().collect();
+        let bounds = certified_scaled_jacobians(q);
+        cells.extend((0..bounds.len()).filter(|&e| bounds[e] < floor));
+        cells.into_iter().collect()
+    };
+    let score = |q: &MeshQuality| {
+        let minimum = certified_scaled_jacobians(q)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        (crate::repair::not_certified(q).len(), -minimum)
+    };
     let mut curved =
         match curve_mesh_once(linear, geometry, options, progress, refining && rounds > 0)? {
             Once::Curved(curved) => *curved,
             Once::Deferred(deferred) => {
-                let chords = crate::precurving::longest_chords(&deferred.base, &deferred.cells);
-                let (split, count) = deferred.base.split_edges(&chords);
+                let (split, count, facet_count) =
+                    split_for_refinement(&deferred.base, geometry, options, &deferred.cells)?;
                 progress(Progress::Step(Step::Refinement));
-                let mut again = refine_and_curve(&split, geometry, options, progress, rounds - 1)?;
-                if crate::repair::not_certified(&again.quality).is_empty() {
+                // (A split mesh that cannot be curved: the input's own repair below.)
+                let again = refine_and_curve(&split, geometry, options, progress, rounds - 1)
+                    .ok()
+                    .filter(|again| crate::repair::not_certified(&again.quality).is_empty());
+                if let Some(mut again) = again {
                     let r = &mut again.report;
                     r.edges_split += deferred.edges_split + count;
+                    r.facet_edges_split += facet_count;
                     r.quadrilaterals_split += deferred.quadrilaterals_split;
                     r.surface_edges_split += deferred.surface_edges_split;
                     r.unused_node_tags = deferred.unused_node_tags;
@@ -299,58 +319,13 @@ fn refine_and_curve(
                 }
             }
         };
-    let floor = refine_floor(options.reshape_below);
-    // Elements left uncertified, or certified below the floor; a result is better with
-    // fewer uncertified elements, then a higher certified minimum.
-    let poor = |q: &MeshQuality| -> Vec<usize> {
-        let mut cells: BTreeSet<usize> = crate::repair::not_certified(q).into_iter().collect();
-        let bounds = certified_scaled_jacobians(q);
-        cells.extend((0..bounds.len()).filter(|&e| bounds[e] < floor));
-        cells.into_iter().collect()
-    };
-    let score = |q: &MeshQuality| {
-        let minimum = certified_scaled_jacobians(q)
-            .into_iter()
-            .fold(f64::INFINITY, f64::min);
-        (crate::repair::not_certified(q).len(), -minimum)
-    };
     for _ in 0..rounds {
         let failing = poor(&curved.quality);
         if !refining || failing.is_empty() {
             break;
         }
         let base = curved.split_input.as_ref().unwrap_or(linear);
-        let chords = crate::precurving::longest_chords(base, &failing);
-        // Cells without a chord: their longest edge on curved facets, split on the geometry
-        // (chords are on no facet, so splitting them first leaves these edges whole).
-        let facet_edges = match geometry {
-            Some(geometry) => {
-                let association = associate_boundary(
-                    base,
-                    geometry.model,
-                    geometry.rule,
-                    options.geometry_tolerance,
-                )?;
-                crate::precurving::longest_curved_facet_edges(
-                    base,
-                    &association,
-                    geometry.model,
-                    &failing,
-                )
-            }
-            None => Vec::new(),
-        };
-        let (mut split, count) = base.split_edges(&chords);
-        // One at a time, each kept only if every cell stays the right way round: two
-        // edges of one cell moved onto a surface that bends can fold it together.
-        let mut facet_count = 0;
-        for edge in &facet_edges {
-            let (next, n) = split.split_edges_at(std::slice::from_ref(edge));
-            if n > 0 && next.check_orientation().is_ok() {
-                split = next;
-                facet_count += n;
-            }
-        }
+        let (split, count, facet_count) = split_for_refinement(base, geometry, options, &failing)?;
         if count + facet_count == 0 {
             break;
         }
@@ -387,6 +362,44 @@ fn refine_and_curve(
     }
     curved.report.timings.total = start.elapsed().as_secs_f64();
     Ok(curved)
+}
+
+/// `base` with `cells` refined for the next curving: the longest chord of each that has
+/// one split at its midpoint, and for each that has none its longest curved facet edge
+/// split at a point on the geometry ([`crate::precurving::longest_curved_facet_edges`]),
+/// one edge at a time, each kept only if every cell stays the right way round (two edges
+/// of one cell moved onto a surface that bends can fold it). Returns the split mesh and
+/// the numbers of chords and of facet edges split.
+fn split_for_refinement(
+    base: &LinearMesh,
+    geometry: Option<Geometry>,
+    options: &CurveOptions,
+    cells: &[usize],
+) -> Result<(LinearMesh, usize, usize), CurveError> {
+    let chords = crate::precurving::longest_chords(base, cells);
+    // Chords lie on no facet: splitting them first leaves the facet edges whole.
+    let facet_edges = match geometry {
+        Some(geometry) => {
+            let association = associate_boundary(
+                base,
+                geometry.model,
+                geometry.rule,
+                options.geometry_tolerance,
+            )?;
+            crate::precurving::longest_curved_facet_edges(base, &association, geometry.model, cells)
+        }
+        None => Vec::new(),
+    };
+    let (mut split, count) = base.split_edges(&chords);
+    let mut facet_count = 0;
+    for edge in &facet_edges {
+        let (next, n) = split.split_edges_at(std::slice::from_ref(edge));
+        if n > 0 && next.check_orientation().is_ok() {
+            split = next;
+            facet_count += n;
+        }
+    }
+    Ok((split, count, facet_count))
 }
 
 /// Rounds of splitting the chords of uncertified elements and curving again (each costs

@@ -265,14 +265,14 @@ pub(crate) fn facet_edges_opposite_rim_corners(
             ([a, b], model.entities[surface].nearest_point(mid))
         })
         .collect();
-    fair_splits(linear, &mut positions);
+    fair_splits(linear, &mut positions, 1e-2);
     positions.into_iter().map(|(e, q)| (e, Some(q))).collect()
 }
 
 /// Keeps only the split positions that leave both halves of every tetrahedron around their
-/// edge at least a hundredth of its volume, with its orientation (a surface bending sharply
-/// over the edge would fold one half).
-fn fair_splits(linear: &LinearMesh, positions: &mut BTreeMap<[u32; 2], [f64; 3]>) {
+/// edge at least the fraction `share` of its volume, with its orientation (a surface
+/// bending sharply over the edge would fold one half, or leave it a sliver).
+fn fair_splits(linear: &LinearMesh, positions: &mut BTreeMap<[u32; 2], [f64; 3]>, share: f64) {
     let key = |a: u32, b: u32| [a.min(b), a.max(b)];
     let mut keep: BTreeMap<[u32; 2], bool> = positions.keys().map(|&e| (e, true)).collect();
     for cell in &linear.cells {
@@ -293,7 +293,7 @@ fn fair_splits(linear: &LinearMesh, positions: &mut BTreeMap<[u32; 2], [f64; 3]>
                     p[replaced] = q;
                     tet_volume(p)
                 };
-                let fair = |child: f64| child * parent.signum() >= 1e-2 * parent.abs();
+                let fair = |child: f64| child * parent.signum() >= share * parent.abs();
                 if !(parent != 0.0 && fair(with(i)) && fair(with(j))) {
                     keep.insert(e, false);
                 }
@@ -311,8 +311,9 @@ fn fair_splits(linear: &LinearMesh, positions: &mut BTreeMap<[u32; 2], [f64; 3]>
 /// feature curve. Curving folds such a cell where its curved facet spans too
 /// much of the surface (a facet across a fillet, a hole rim of few segments) and no
 /// interior chord is there to split; halving the facet's longest edge halves that span.
-/// Splits that would leave a cell around the edge with less than a hundredth of its volume
-/// in either half are left out. Lower vertex id first, sorted.
+/// Splits that would leave a cell around the edge with less than a quarter of its volume
+/// in either half (half of what the straight midpoint split leaves) are left out. Lower
+/// vertex id first, sorted.
 pub(crate) fn longest_curved_facet_edges(
     linear: &LinearMesh,
     association: &hocurve_geodesic::BoundaryAssociation,
@@ -387,7 +388,9 @@ pub(crate) fn longest_curved_facet_edges(
             positions.insert(e, q);
         }
     }
-    fair_splits(linear, &mut positions);
+    // At least half of what the straight midpoint split gives each half: refinement is
+    // for cells that curving folds, a sliver child would be the next one.
+    fair_splits(linear, &mut positions, 0.25);
     positions.into_iter().map(|(e, q)| (e, Some(q))).collect()
 }
 
