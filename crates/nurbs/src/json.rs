@@ -15,6 +15,8 @@
 //!      "major_radius": 2, "minor_radius": 0.5},
 //!     {"name": "pipe", "kind": "cylinder", "point": [0, 0, 0], "axis": [0, 0, 2],
 //!      "radius": 0.5},
+//!     {"name": "nose", "kind": "cone", "apex": [0, 0, 0], "axis": [1, 0, 0],
+//!      "half_angle_degrees": 7, "axial_range": [0, 1]},
 //!     {"name": "farfield", "kind": "circle", "center": [0.5, 0], "radius": 10},
 //!     {"name": "arc", "kind": "nurbs_curve", "degree": 2, "knots": [0, 0, 0, 1, 1, 1],
 //!      "control_points": [[1, 0], [1, 1], [0, 1]], "weights": [1, 0.7071067811865476, 1]},
@@ -32,6 +34,7 @@
 //! | `sphere` | `center` `[x, y, z]`, `radius` > 0 (NURBS axis z, poles at ±z) |
 //! | `torus` | `center`, `axis` `[x, y, z]`, `major_radius` > `minor_radius` > 0 |
 //! | `cylinder` | `point` on the axis, `axis` `[x, y, z]`, `radius` > 0, `axial_range` `[t0, t1]` = `[0, ‖axis‖]` |
+//! | `cone` | `apex`, `axis` `[x, y, z]` (from the apex into the cone), `half_angle_degrees` in (0, 90), `axial_range` `[h0, h1]` = `[0, ‖axis‖]` with 0 ≤ h0 < h1 |
 //! | `circle` | `center` `[x, y]` (z = 0) or `[x, y, z]`, `normal` = `[0, 0, 1]`, `radius` > 0 |
 //! | `naca4` | `digits` `"MPTT"` (a string), `chord` = 1, `closed_trailing_edge` = false |
 //! | `nurbs_curve` | `degree`, `knots`, `control_points` `[[x, y] or [x, y, z], …]`, `weights` = all 1 |
@@ -43,6 +46,8 @@
 //! - The cylinder is infinite for projection (its closed form); its NURBS patch covers the
 //!   axial coordinates `axial_range` measured from `point` along the unit axis, by default from
 //!   `point` to `point + axis` (the convention of Gmsh's and OpenCASCADE's cylinders).
+//!   The cone is one infinite nappe for projection; its patch covers the heights
+//!   `axial_range` above the apex along the unit axis.
 //! - The airfoil has its leading edge at the origin and its chord along +x; move the mesh, not
 //!   the airfoil.
 //! - Unknown fields are errors, as are unknown kinds, bad sizes, inconsistent knot vectors and
@@ -67,10 +72,11 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 /// The entity kinds of the schema, in the order error messages list them.
-pub const KINDS: [&str; 7] = [
+pub const KINDS: [&str; 8] = [
     "sphere",
     "torus",
     "cylinder",
+    "cone",
     "circle",
     "naca4",
     "nurbs_curve",
@@ -205,6 +211,16 @@ struct CylinderSpec {
     point: Point3,
     axis: Point3,
     radius: f64,
+    axial_range: Option<[f64; 2]>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ConeSpec {
+    name: Option<String>,
+    apex: Point3,
+    axis: Point3,
+    half_angle_degrees: f64,
     axial_range: Option<[f64; 2]>,
 }
 
@@ -379,6 +395,7 @@ fn parse_fields(
         "sphere" => build_sphere(spec(fields)?),
         "torus" => build_torus(spec(fields)?),
         "cylinder" => build_cylinder(spec(fields)?),
+        "cone" => build_cone(spec(fields)?),
         "circle" => build_circle(spec(fields)?),
         "naca4" => build_naca4(spec(fields)?),
         "nurbs_curve" => build_nurbs_curve(spec(fields)?),
@@ -415,6 +432,18 @@ fn build_cylinder(s: CylinderSpec) -> Result<Parsed, SpecError> {
     Ok(Parsed {
         geometry: EntityGeometry::Surface(shapes::cylinder(p, a, s.radius, (t0, t1))?),
         analytic: Some(AnalyticShape::new_cylinder(p, a, s.radius)?),
+        name: s.name,
+    })
+}
+
+fn build_cone(s: ConeSpec) -> Result<Parsed, SpecError> {
+    let (apex, a) = (s.apex.0, s.axis.0);
+    let length = a.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let [h0, h1] = s.axial_range.unwrap_or([0.0, length]);
+    let half_angle = s.half_angle_degrees.to_radians();
+    Ok(Parsed {
+        geometry: EntityGeometry::Surface(shapes::cone(apex, a, half_angle, (h0, h1))?),
+        analytic: Some(AnalyticShape::new_cone(apex, a, half_angle)?),
         name: s.name,
     })
 }

@@ -11,6 +11,8 @@ const EXAMPLE: &str = r#"{
      "major_radius": 2, "minor_radius": 0.5},
     {"name": "pipe", "kind": "cylinder", "point": [0, 0, 0], "axis": [0, 0, 2],
      "radius": 0.5},
+    {"name": "nose", "kind": "cone", "apex": [0, 0, 0], "axis": [1, 0, 0],
+     "half_angle_degrees": 7, "axial_range": [0, 1]},
     {"name": "farfield", "kind": "circle", "center": [0.5, 0], "radius": 10},
     {"name": "arc", "kind": "nurbs_curve", "degree": 2, "knots": [0, 0, 0, 1, 1, 1],
      "control_points": [[1, 0], [1, 1], [0, 1]], "weights": [1, 0.7071067811865476, 1]},
@@ -43,9 +45,9 @@ fn every_kind_is_parsed_and_analytic_entities_lie_on_their_surfaces() {
     let names: Vec<&str> = model.entities.iter().map(|e| e.name.as_str()).collect();
     assert_eq!(
         names,
-        ["sphere", "airfoil", "ring", "pipe", "farfield", "arc", "patch"]
+        ["sphere", "airfoil", "ring", "pipe", "nose", "farfield", "arc", "patch"]
     );
-    assert_eq!(model.counts(), (3, 4));
+    assert_eq!(model.counts(), (3, 5));
 
     let sphere = model.entity("sphere").unwrap();
     assert!(matches!(
@@ -71,6 +73,19 @@ fn every_kind_is_parsed_and_analytic_entities_lie_on_their_surfaces() {
         assert!((-1e-15..=2.0 + 1e-15).contains(&p[2]));
     }
     assert!((pipe.point([0.0, 1.0])[2] - 2.0).abs() < 1e-15);
+
+    // The cone opens along +x from the origin at 7°, its patch from the apex to x = 1.
+    let nose = model.entity("nose").unwrap();
+    let tan = 7f64.to_radians().tan();
+    assert!(matches!(nose.analytic, Some(AnalyticShape::Cone { .. })));
+    for p in surface_points(nose) {
+        assert!((p[1].hypot(p[2]) - p[0] * tan).abs() < 1e-14);
+        assert!((-1e-15..=1.0 + 1e-15).contains(&p[0]));
+    }
+    assert!(
+        (nose.distance([0.5, 1.0, 0.0]) - (1.0 - 0.5 * tan) * 7f64.to_radians().cos()).abs()
+            < 1e-14
+    );
 
     // A 2D centre is in the plane z = 0, normal +z.
     let far = model.entity("farfield").unwrap();
@@ -99,7 +114,7 @@ fn every_kind_is_parsed_and_analytic_entities_lie_on_their_surfaces() {
     let patch = model.entity("patch").unwrap();
     let p = patch.point([0.25, 0.5]);
     assert_eq!(p, [0.25, 0.5, 0.125]);
-    assert_eq!(patch.origin, "JSON entity 6 (nurbs_surface)");
+    assert_eq!(patch.origin, "JSON entity 7 (nurbs_surface)");
 }
 
 #[test]
@@ -299,6 +314,21 @@ fn invalid_geometry_is_reported_with_the_entity() {
         ),
         Err(GeometryInputError::Geometry { .. })
     ));
+    for bad in [
+        r#""half_angle_degrees": 90"#,
+        r#""half_angle_degrees": 10, "axial_range": [-1, 1]"#,
+    ] {
+        let text = format!(
+            r#"{{"entities": [{{"kind": "cone", "apex": [0,0,0], "axis": [0,0,1], {bad}}}]}}"#
+        );
+        assert!(
+            matches!(
+                parse_geometry_json(&text),
+                Err(GeometryInputError::Geometry { .. })
+            ),
+            "{bad}"
+        );
+    }
 }
 
 #[test]
