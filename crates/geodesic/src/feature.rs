@@ -47,6 +47,9 @@ const QUICK_ALTERNATION: (usize, f64) = (8, 1e-13);
 /// Alternating projections that settle with the two feet farther apart than this (relative
 /// to the model size) are taken to have stalled off the seam.
 const SEAM_GAP: f64 = 1e-6;
+/// Two surfaces whose gap is within this (relative to the model size) touch: the strict
+/// "on the geometry" of the written mesh, where the file states no uncertainty.
+const ON_SURFACE: f64 = 1e-10;
 
 /// The curve carrying a feature edge, from its first vertex to its second.
 pub(crate) struct FeatureCurve<'a> {
@@ -424,11 +427,18 @@ fn foot_on_tangent_seam(
             at_vertex = true;
             -b / (2.0 * c)
         };
-        if at_vertex && delta.abs() <= (noise / c.abs()).sqrt().min(step) {
+        // The offset at the vertex: the surfaces' gap there.
+        let gap = (h0 - b * b / (4.0 * c)).abs();
+        if at_vertex
+            && delta.abs() <= (noise / c.abs()).sqrt().min(step)
+            && gap <= band.max(ON_SURFACE * size)
+        {
             // At a minimum of h (surfaces touching, not crossing) its vertex is fixed only
             // to √(round-off / c) across the seam: a step within that, inside the stencil,
             // is the seam (closer steps fit parabolas through noise and wander). Off each
-            // surface by ~ the round-off of h there.
+            // surface by about their gap there — taken only where that is within the file's
+            // uncertainty, or on them to the strict tolerance (faces farther apart do not
+            // meet: the callers' fallbacks decide).
             let (_, y_next, q_next) = feet(centre + delta, params)?;
             return Some(scale(add(y_next, q_next), 0.5));
         }
