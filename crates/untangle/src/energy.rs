@@ -143,7 +143,10 @@ impl DistortionEnergy<'_> {
         let terms: Vec<CellEvaluation> = self
             .cells
             .par_iter()
-            .map(|cell| self.cell(cell, x, delta, with_gradient))
+            .map(|cell| match self.dim {
+                2 => self.cell::<2>(cell, x, delta, with_gradient),
+                _ => self.cell::<3>(cell, x, delta, with_gradient),
+            })
             .collect();
         let mut energy = 0.0;
         let mut min_ratio = f64::INFINITY;
@@ -167,24 +170,9 @@ impl DistortionEnergy<'_> {
     }
 
     /// One cell's energy, smallest det T, and gradient with respect to its nodes (empty
-    /// unless asked for).
-    fn cell(
-        &self,
-        cell: &CellTerm,
-        x: &[[f64; 3]],
-        delta: f64,
-        with_gradient: bool,
-    ) -> CellEvaluation {
-        // The dimension as a constant: the 3 × 3 loops unrolled (the same sums in the same
-        // order, so the same bits; where untangling spends its time).
-        if self.dim == 2 {
-            self.cell_of::<2>(cell, x, delta, with_gradient)
-        } else {
-            self.cell_of::<3>(cell, x, delta, with_gradient)
-        }
-    }
-
-    fn cell_of<const D: usize>(
+    /// unless asked for). The dimension `D` is a constant: the 3 × 3 loops unrolled (the same sums in the
+    /// same order, so the same bits), where untangling spends its time.
+    fn cell<const D: usize>(
         &self,
         cell: &CellTerm,
         x: &[[f64; 3]],
