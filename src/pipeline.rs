@@ -377,18 +377,30 @@ fn split_for_refinement(
     cells: &[usize],
 ) -> Result<(LinearMesh, usize, usize), CurveError> {
     let chords = crate::precurving::longest_chords(base, cells);
-    // Chords lie on no facet: splitting them first leaves the facet edges whole.
+    let chordless: Vec<usize> = cells
+        .iter()
+        .zip(crate::precurving::longest_chord_of_each(base, cells))
+        .filter(|(_, chord)| chord.is_none())
+        .map(|(&c, _)| c)
+        .collect();
+    // Chords lie on no facet: splitting them first leaves the facet edges whole. (The
+    // association, a pass over the whole boundary, only when some cell has no chord.)
     let facet_edges = match geometry {
-        Some(geometry) => {
+        Some(geometry) if !chordless.is_empty() => {
             let association = associate_boundary(
                 base,
                 geometry.model,
                 geometry.rule,
                 options.geometry_tolerance,
             )?;
-            crate::precurving::longest_curved_facet_edges(base, &association, geometry.model, cells)
+            crate::precurving::longest_curved_facet_edges(
+                base,
+                &association,
+                geometry.model,
+                &chordless,
+            )
         }
-        None => Vec::new(),
+        _ => Vec::new(),
     };
     let (mut split, count) = base.split_edges(&chords);
     let mut facet_count = 0;
