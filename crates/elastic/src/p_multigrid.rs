@@ -1,5 +1,5 @@
-//! The preconditioner of the PCG solver: a p-multigrid V-cycle over the orders
-//! p → p − 1 → … → 1 on the same mesh, with an exact solve of the p = 1 problem on the
+//! The preconditioner of the PCG solver: a p-multigrid V-cycle over orders p → … → 1 on
+//! the same mesh (see [`level_orders`]), with an exact solve of the p = 1 problem on the
 //! vertices.
 //!
 //! Each coarser order q is the straight-sided mesh of order q on the same vertices and cells
@@ -43,21 +43,32 @@ use crate::transfer::{interpolation_weights, CellTransfer};
 use crate::vector_ops::spmv;
 use crate::{ElasticError, Material, SolverOptions, StiffnessMatrix};
 
-/// The orders of the hierarchy for a mesh of order p: p, p − 1, …, 1.
+/// The orders of the hierarchy for a mesh of order p: two orders down per level while the
+/// order is at least 4, then one (p = 4: 4, 2, 1; p = 5: 5, 3, 2, 1; p = 8: 8, 6, 4, 2, 1).
 ///
-/// Measured on the sphere fixture (examples/sphere_iterations.rs): dropping one order per
-/// level keeps the PCG iteration count nearly flat in p; halving the order costs more
-/// iterations than the cheaper intermediate levels save.
+/// The curving solves stop once the displacement error is far below the geometry's
+/// tolerance (5–10 iterations), so a level's set-up (operator, block inverses, spectrum
+/// estimate) weighs as much as its share of the iterations. Measured on the 6 k sphere
+/// (whole process, best of 5, 2 cores), one order per level against this: p = 4 0.62 s
+/// (5 CG iterations) against 0.55 s (7); p = 5 1.53 s (6) against 1.26 s (8); p = 6 3.5 s
+/// (8) against 3.2 s (11); p = 8 23 s (15) against 21 s (22). Halving the order from p = 5
+/// on (5, 2, 1; 6, 3, 1) cost more iterations than it saved (11 and 14).
 pub(crate) fn level_orders(p: usize) -> Vec<usize> {
-    (1..=p.max(1)).rev().collect()
+    let mut orders = vec![p.max(1)];
+    let mut q = p.max(1);
+    while q > 1 {
+        q = if q >= 4 { q - 2 } else { q - 1 };
+        orders.push(q);
+    }
+    orders
 }
 
-/// Chebyshev degree of the matrix-free levels of order p − 2 and below (the finest two
-/// levels keep [`SolverOptions::smoother_degree`]). Measured (CG iterations, 3 → 2): coarse
-/// sphere p = 6 8 → 8, p = 8 15 → 15; 6 k sphere p = 4 5 → 5; boundary-layer tetrahedra
-/// (`sphere_layers_coarse`, p = 4) 64 → 66; a third fewer mat-vecs on those levels, which
-/// cost about as much as the finest one together. Degree 2 on the p − 1 level too cost
-/// iterations everywhere (15 → 16, 5 → 6, 64 → 70).
+/// Chebyshev degree of the matrix-free levels of order p − 2 and below (the finest level
+/// keeps [`SolverOptions::smoother_degree`]). Measured (CG iterations, 3 → 2) with one
+/// order per level: coarse sphere p = 6 8 → 8, p = 8 15 → 15; 6 k sphere p = 4 5 → 5;
+/// boundary-layer tetrahedra (`sphere_layers_coarse`, p = 4) 64 → 66; a third fewer
+/// mat-vecs on those levels, which cost about as much as the finest one together. Degree
+/// 2 on the p − 1 level too cost iterations everywhere (15 → 16, 5 → 6, 64 → 70).
 const LOW_LEVEL_SMOOTHER_DEGREE: usize = 2;
 
 /// From a level's next coarser unknowns to its own, and back.
@@ -241,7 +252,8 @@ impl<'a> PMultigrid<'a> {
     }
 
     /// The hierarchy below the finest level (its operator and smoother given): the orders
-    /// p − 1, …, 1 on the same cells, matrix-free above p = 1 when `matrix_free`.
+    /// of [`level_orders`] below p on the same cells, matrix-free above p = 1 when
+    /// `matrix_free`.
     #[allow(clippy::too_many_arguments)]
     fn with_coarse_levels(
         finest: (Box<dyn LinearOperator + 'a>, ChebyshevSmoother),

@@ -91,11 +91,12 @@ fn multigrid_iterations_stay_flat_in_p() {
         }
         // At p = 1 the coarse problem is the problem: the preconditioner is exact.
         assert!(counts[0] <= 2, "{fill:?}: {counts:?}");
-        // Nearly flat from p = 2 on (measured: tets 16, 17, 19, 21; hexes and prisms
-        // 15, 14, 14, 14).
+        // Slowly growing from p = 2 on, to a tight tolerance (measured: tets 16, 17, 27, 31;
+        // hexes and prisms 15, 14, 19, 19; with one order per level instead of two from p = 4,
+        // 16, 17, 19, 21 and 15, 14, 14, 14 — more iterations, each cheaper).
         let low = counts[1..].iter().min().copied().unwrap_or(0);
         let high = counts[1..].iter().max().copied().unwrap_or(0);
-        assert!(high as f64 <= 1.6 * low as f64, "{fill:?}: {counts:?}");
+        assert!(high as f64 <= 2.2 * low as f64, "{fill:?}: {counts:?}");
     }
 }
 

@@ -283,10 +283,13 @@ fn iterations_stay_nearly_flat_in_p() {
     println!("(p-multigrid, point Jacobi) for p = 1..5: {counts:?}");
     // p = 1: the coarse problem is the problem.
     assert!(counts[0].0 <= 2, "{counts:?}");
+    // Two orders down per level from p = 4 (`level_orders`): more iterations there to
+    // a tight tolerance, (16, 18, 30, 34) against (16, 18, 20, 23) with one order per
+    // level, but far from point Jacobi's growth.
     let (low, high) = counts[1..]
         .iter()
         .fold((usize::MAX, 0), |(l, h), c| (l.min(c.0), h.max(c.0)));
-    assert!(high as f64 <= 1.5 * low as f64, "{counts:?}");
+    assert!(high as f64 <= 2.5 * low as f64, "{counts:?}");
     // Point Jacobi grows with p and needs many times more.
     assert!(counts[4].1 > 3 * counts[1].1, "{counts:?}");
     assert!(counts[4].0 * 10 < counts[4].1, "{counts:?}");
