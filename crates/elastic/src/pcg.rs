@@ -112,7 +112,12 @@ pub(crate) fn pcg_with_progress(
         return done(0, false);
     }
     let mut r = vec![0.0; n];
-    a.residual(b, x, &mut r);
+    if x.iter().all(|&v| v == 0.0) {
+        // r = b − A 0 = b, without the mat-vec.
+        r.copy_from_slice(b);
+    } else {
+        a.residual(b, x, &mut r);
+    }
     let mut z = vec![0.0; n];
     preconditioner.apply(&r, &mut z);
     let mut p = z.clone();
