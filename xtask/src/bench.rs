@@ -10,7 +10,7 @@
 //! seconds, default 120). All three high-order meshes are measured by the same script
 //! (`scripts/bench_gmsh.py`, with Gmsh's shape functions): the paper's scaled Jacobian at
 //! degree-2p Gauss points and Gmsh's own minSJ. Target: ours ≤ 2× Gmsh's projection time
-//! with a better min scaled Jacobian.
+//! with a better min scaled Jacobian; both times the best of [`BEST_OF`] runs.
 
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -62,20 +62,35 @@ pub fn bench(args: &[String]) -> Result<()> {
     for &p in &orders {
         let ours_msh = out.join(format!("hocurve_p{p}.msh"));
         let report = out.join(format!("hocurve_p{p}.json"));
-        run(
-            &format!("hocurve curve, p = {p}"),
-            Command::new(&hocurve)
-                .current_dir(root())
-                .arg("curve")
-                .arg(&linear)
-                .args(["--order", &p.to_string()])
-                .args(["--geometry", "fixtures/sphere/sphere.json", "-o"])
-                .arg(&ours_msh)
-                .arg("--report")
-                .arg(&report)
-                .stdout(std::process::Stdio::null()),
-        )?;
-        let ours: Value = serde_json::from_str(&std::fs::read_to_string(&report)?)?;
+        // Single timings of the same run spread by up to 20 % on this shared machine: the
+        // report of the fastest of BEST_OF runs (the output is the same every run), and
+        // Gmsh's fastest projection likewise.
+        let mut ours: Option<Value> = None;
+        for _ in 0..BEST_OF {
+            run(
+                &format!("hocurve curve, p = {p}"),
+                Command::new(&hocurve)
+                    .current_dir(root())
+                    .arg("curve")
+                    .arg(&linear)
+                    .args(["--order", &p.to_string()])
+                    .args(["--geometry", "fixtures/sphere/sphere.json", "-o"])
+                    .arg(&ours_msh)
+                    .arg("--report")
+                    .arg(&report)
+                    .stdout(std::process::Stdio::null()),
+            )?;
+            let this: Value = serde_json::from_str(&std::fs::read_to_string(&report)?)?;
+            if ours
+                .as_ref()
+                .is_none_or(|best| curving_seconds(&this) < curving_seconds(best))
+            {
+                ours = Some(this);
+            }
+        }
+        let Some(ours) = ours else {
+            bail!("no hocurve run at p = {p}");
+        };
         let measured = out.join(format!("hocurve_p{p}_quality.json"));
         run(
             &format!("Gmsh measures hocurve's p = {p} mesh"),
@@ -86,7 +101,18 @@ pub fn bench(args: &[String]) -> Result<()> {
                 .arg(&measured),
         )?;
         let ours_quality: Value = serde_json::from_str(&std::fs::read_to_string(&measured)?)?;
-        let project = gmsh_run(&python, &script, "project", p, &out, None)?;
+        let mut project = None;
+        for _ in 0..BEST_OF {
+            let this = gmsh_run(&python, &script, "project", p, &out, None)?;
+            let seconds = |run: &GmshRun| {
+                run.as_ref()
+                    .and_then(|v| v["set_order_seconds"].as_f64())
+                    .unwrap_or(f64::INFINITY)
+            };
+            if project.is_none() || seconds(&this) < seconds(&project) {
+                project = this;
+            }
+        }
         let elastic = gmsh_run(&python, &script, "elastic", p, &out, Some(timeout))?;
         rows.push((p, ours, ours_quality, project, elastic));
     }
@@ -105,7 +131,7 @@ pub fn bench(args: &[String]) -> Result<()> {
         let t = &ours["timings"];
         let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
         let total = f(&t["total"]);
-        let curving = total - f(&t["read"]) - f(&t["write"]);
+        let curving = curving_seconds(ours);
         let proj_time = project
             .as_ref()
             .map_or(f64::NAN, |v| f(&v["set_order_seconds"]));
@@ -146,6 +172,14 @@ pub fn bench(args: &[String]) -> Result<()> {
         if all_met { "met" } else { "NOT met" }
     );
     Ok(())
+}
+
+/// Seconds of a `hocurve curve` report's curving: the whole run without reading and
+/// writing.
+fn curving_seconds(report: &Value) -> f64 {
+    let t = &report["timings"];
+    let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+    f(&t["total"]) - f(&t["read"]) - f(&t["write"])
 }
 
 /// What a sphere benchmark runs with: the Python environment, the release `hocurve`, its
