@@ -50,9 +50,10 @@ use crate::{ElasticError, Material, SolverOptions, StiffnessMatrix};
 /// tolerance (5–10 iterations), so a level's set-up (operator, block inverses, spectrum
 /// estimate) weighs as much as its share of the iterations. Measured on the 6 k sphere
 /// (whole process, best of 5, 2 cores), one order per level against this: p = 4 0.62 s
-/// (5 CG iterations) against 0.55 s (7); p = 5 1.53 s (6) against 1.26 s (8); p = 6 3.5 s
-/// (8) against 3.2 s (11); p = 8 23 s (15) against 21 s (22). Halving the order from p = 5
-/// on (5, 2, 1; 6, 3, 1) cost more iterations than it saved (11 and 14).
+/// (5 CG iterations) against 0.56 s (7); p = 5 1.46 s (6) against 1.38 s (9); with 8
+/// Lanczos steps on both sides, p = 6 3.5 s (8) against 3.2 s (11), p = 8 23 s (15)
+/// against 21 s (22). Halving the order from p = 5 on (5, 2, 1; 6, 3, 1) cost more
+/// iterations than it saved (11 and 14).
 pub(crate) fn level_orders(p: usize) -> Vec<usize> {
     let mut orders = vec![p.max(1)];
     let mut q = p.max(1);
