@@ -162,8 +162,10 @@ impl PrismJacobian {
                 let w = weight(fk, gk);
                 let (fs, gs) = (&f.c[fk * ft..(fk + 1) * ft], &g.c[gk * gt..(gk + 1) * gt]);
                 let out = &mut c[(fk + gk) * out_t..(fk + gk + 1) * out_t];
-                for &(i, j, o, t) in &table.terms {
-                    out[o as usize] += w * t * fs[i as usize] * gs[j as usize];
+                for (i, &fi) in fs.iter().enumerate().take(table.rows()) {
+                    for ((o, t), &gj) in table.row(i).zip(gs) {
+                        out[o as usize] += w * t * fi * gj;
+                    }
                 }
             }
         }

@@ -49,16 +49,15 @@ fn lattice_positions(dim: usize, d: usize) -> Vec<u32> {
     at
 }
 
-/// The product of degree-a and degree-b polynomials: (index in f, index in g, index of
-/// the product, weight) for every pair.
+/// The product of degree-a and degree-b polynomials: for every pair (i in f, j in g), row
+/// by row (pair (i, j) at `i * row_len + j`), the index of the product's coefficient and
+/// the pair's weight.
 #[derive(Debug, Clone)]
 pub(crate) struct ProductTable {
-    pub(crate) terms: Vec<(u32, u32, u32, f64)>,
-    /// The same terms' output indices and weights, row i of f at `i * row_len ..`, for
-    /// [`ProductTable::product`]'s unit-stride inner loop.
-    outputs: Vec<u32>,
-    weights: Vec<f64>,
-    row_len: usize,
+    pub(crate) outputs: Vec<u32>,
+    pub(crate) weights: Vec<f64>,
+    /// Coefficients of g (the pairs in a row).
+    pub(crate) row_len: usize,
     pub(crate) len: usize,
     /// Largest number of pairs meeting at one output coefficient.
     pub(crate) most_terms: usize,
@@ -70,10 +69,11 @@ impl ProductTable {
         let out = lattice_positions(dim, a + b);
         let side = a + b + 1;
         let mut count = vec![0usize; simplex_lattice(dim, a + b).len()];
-        let mut terms = Vec::with_capacity(fa.len() * fb.len());
-        for (i, alpha) in fa.iter().enumerate() {
+        let mut outputs = Vec::with_capacity(fa.len() * fb.len());
+        let mut weights = Vec::with_capacity(fa.len() * fb.len());
+        for alpha in &fa {
             let alpha0 = a - alpha.iter().sum::<usize>();
-            for (j, beta) in fb.iter().enumerate() {
+            for beta in &fb {
                 let beta0 = b - beta.iter().sum::<usize>();
                 let gamma = [alpha[0] + beta[0], alpha[1] + beta[1], alpha[2] + beta[2]];
                 let mut w = binomial[alpha0 + beta0][alpha0] / binomial[a + b][a];
@@ -82,29 +82,38 @@ impl ProductTable {
                 }
                 let o = out[gamma[0] + side * (gamma[1] + side * gamma[2])];
                 count[o as usize] += 1;
-                terms.push((i as u32, j as u32, o, w));
+                outputs.push(o);
+                weights.push(w);
             }
         }
         ProductTable {
-            outputs: terms.iter().map(|t| t.2).collect(),
-            weights: terms.iter().map(|t| t.3).collect(),
+            outputs,
+            weights,
             row_len: fb.len(),
-            terms,
             len: count.len(),
             most_terms: count.into_iter().max().unwrap_or(0),
         }
     }
 
+    /// Row i of the table: (output index, weight) of the pairs (i, j), j in order.
+    pub(crate) fn row(&self, i: usize) -> impl Iterator<Item = (u32, f64)> + '_ {
+        let range = i * self.row_len..(i + 1) * self.row_len;
+        self.outputs[range.clone()]
+            .iter()
+            .copied()
+            .zip(self.weights[range].iter().copied())
+    }
+
+    /// Number of rows (coefficients of f).
+    pub(crate) fn rows(&self) -> usize {
+        self.outputs.len() / self.row_len.max(1)
+    }
+
     fn product(&self, f: &Bounded, g: &Bounded) -> Bounded {
         let mut c = vec![0.0; self.len];
-        // The terms in their order (i, then j), each (w f_i) g_j: the same sums as a loop
-        // over `terms`, bit for bit, with f_i hoisted and g, w read in order.
-        let n = self.row_len;
-        let rows = self.outputs.len() / n.max(1);
-        for (i, &fi) in f.c.iter().enumerate().take(rows) {
-            let range = i * n..(i + 1) * n;
-            let row = self.outputs[range.clone()].iter().zip(&self.weights[range]);
-            for ((&o, &w), &gj) in row.zip(&g.c[..n]) {
+        // Pairs in order (i, then j), each (w f_i) g_j.
+        for (i, &fi) in f.c.iter().enumerate().take(self.rows()) {
+            for ((o, w), &gj) in self.row(i).zip(&g.c) {
                 c[o as usize] += w * fi * gj;
             }
         }
