@@ -3,6 +3,7 @@
 use std::collections::BTreeMap;
 
 use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
+use rayon::prelude::*;
 
 use crate::{HighOrderMesh, MeshError};
 
@@ -35,42 +36,62 @@ impl HighOrderMesh {
         if family == self.family {
             return Ok(out);
         }
-        let mut done = vec![false; n];
         // Per shape, Φⱼ at every target node, row by row: the same for every cell.
         let mut tables: BTreeMap<Shape, (usize, Vec<f64>)> = BTreeMap::new();
-        let mut u = vec![0.0; components];
         for cell in &self.cells {
             let shape = cell.kind;
             if let std::collections::btree_map::Entry::Vacant(slot) = tables.entry(shape) {
                 let from = ReferenceElement::shared(shape, self.order, self.family)?;
                 let to = ReferenceElement::shared(shape, self.order, family)?;
                 let basis = from.basis();
-                let width = basis.len();
+                let width = basis.len().max(1);
                 let targets = to.nodes().points();
                 let mut table = vec![0.0; targets.len() * width];
-                for (row, xi) in table.chunks_mut(width.max(1)).zip(targets) {
+                for (row, xi) in table.chunks_mut(width).zip(targets) {
                     basis.eval(*xi, row);
                 }
                 slot.insert((width, table));
             }
-            let (width, table) = &tables[&shape];
-            for (k, phi) in table.chunks(*width.max(&1)).enumerate() {
-                let Some(&id) = cell.nodes.get(k) else {
-                    break;
-                };
-                let id = id as usize;
-                if done[id] {
-                    continue;
-                }
-                u.iter_mut().for_each(|x| *x = 0.0);
-                for (p, &j) in phi.iter().zip(&cell.nodes) {
-                    let at = j as usize * components;
-                    for (x, v) in u.iter_mut().zip(&values[at..at + components]) {
-                        *x += p * v;
+        }
+        // Each node from the first cell that has it (its owner); then the cells evaluate
+        // their own nodes in parallel, each sum in the same order as a serial pass would.
+        let mut owned = vec![false; n];
+        let owners: Vec<Vec<(usize, usize)>> = self
+            .cells
+            .iter()
+            .map(|cell| {
+                let rows = tables[&cell.kind].1.len() / tables[&cell.kind].0;
+                cell.nodes
+                    .iter()
+                    .take(rows)
+                    .enumerate()
+                    .filter(|&(_, &id)| !std::mem::replace(&mut owned[id as usize], true))
+                    .map(|(k, &id)| (k, id as usize))
+                    .collect()
+            })
+            .collect();
+        let evaluated: Vec<Vec<f64>> = self
+            .cells
+            .par_iter()
+            .zip(&owners)
+            .map(|(cell, own)| {
+                let (width, table) = &tables[&cell.kind];
+                let mut u = vec![0.0; components * own.len()];
+                for (&(k, _), u) in own.iter().zip(u.chunks_exact_mut(components)) {
+                    let phi = &table[k * width..(k + 1) * width];
+                    for (p, &j) in phi.iter().zip(&cell.nodes) {
+                        let at = j as usize * components;
+                        for (x, v) in u.iter_mut().zip(&values[at..at + components]) {
+                            *x += p * v;
+                        }
                     }
                 }
-                out[id * components..(id + 1) * components].copy_from_slice(&u);
-                done[id] = true;
+                u
+            })
+            .collect();
+        for (own, u) in owners.iter().zip(&evaluated) {
+            for (&(_, id), u) in own.iter().zip(u.chunks_exact(components)) {
+                out[id * components..(id + 1) * components].copy_from_slice(u);
             }
         }
         Ok(out)

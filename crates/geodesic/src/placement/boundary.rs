@@ -14,7 +14,7 @@ use crate::association::snap_onto;
 use crate::correction::CorrectedEdge;
 use crate::{BoundaryAssociation, GeodesicError};
 
-use super::edge_carriers::{edge_carrier, EdgeCarrier};
+use super::edge_carriers::{edge_carrier, vertex_parameters, EdgeCarrier};
 use super::face_interior::place_facet;
 use super::geometry_distance::max_distance;
 use super::options::{BoundaryNodeStrategy, PlacementOptions};
@@ -169,12 +169,14 @@ pub fn place_boundary_nodes_with(
         .map(|(k, e)| (*k, entity_list(e)))
         .collect();
     let charts = GeometryCharts::new(geometry);
+    let params = vertex_parameters(geometry, association, &edges);
     let carriers: Vec<Result<EdgeCarrier, GeodesicError>> = edges
         .par_iter()
         .map(|(vertices, entities)| {
             edge_carrier(
                 &charts,
                 association,
+                &params,
                 *vertices,
                 entities,
                 options.feature_length_tolerance,

@@ -121,6 +121,7 @@ fn edge_nodes_are_computed_once_and_agree_with_either_orientation() {
             let carrier = edge_carrier(
                 &crate::chart::GeometryCharts::new(&model),
                 &a,
+                &Default::default(),
                 [from, to],
                 &[0],
                 1e-12,
