@@ -103,3 +103,47 @@ fn determinants_by_cofactors() {
     assert_eq!(determinant(&j, 2), 5.0);
     assert_eq!(determinant(&j, 3), 18.0); // 2·11 − 1·4 + 0
 }
+
+/// The determinants of a curved element at points in lane blocks (a partial last block
+/// included) have the bits of the point-by-point Jacobians'.
+#[test]
+fn determinants_in_lane_blocks_have_the_bits_of_point_by_point_jacobians() {
+    for shape in [
+        Shape::Line,
+        Shape::Tri,
+        Shape::Quad,
+        Shape::Tet,
+        Shape::Hex,
+        Shape::Prism,
+    ] {
+        let element = ReferenceElement::shared(shape, 3, NodeFamily::Fekete).unwrap();
+        // A curved element: the reference nodes moved by a smooth, non-polynomial field.
+        let coords: Vec<[f64; 3]> = element
+            .nodes()
+            .points()
+            .iter()
+            .map(|xi| {
+                [
+                    xi[0] + 0.1 * (3.0 * xi[1]).sin(),
+                    xi[1] + 0.1 * (2.0 * xi[2] + xi[0]).cos(),
+                    xi[2] + 0.05 * (xi[0] * xi[1]).exp(),
+                ]
+            })
+            .collect();
+        let points: Vec<[f64; 3]> = (0..11)
+            .map(|k| {
+                let t = (k as f64 + 0.5) / 11.0;
+                [0.3 * t, 0.5 * (1.0 - t), 0.2 * t * t]
+            })
+            .collect();
+        let table = element.tabulate(&points);
+        let mut dets = Vec::new();
+        table.determinants_into(&coords, &mut dets);
+        assert_eq!(dets.len(), points.len());
+        for (q, det) in dets.iter().enumerate() {
+            let expected = determinant(&table.jacobian(&coords, q), shape.dim());
+            assert_eq!(det.to_bits(), expected.to_bits(), "{shape} point {q}");
+            assert!(*det != 0.0, "{shape} point {q}");
+        }
+    }
+}
