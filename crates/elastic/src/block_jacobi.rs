@@ -245,22 +245,16 @@ impl BlockJacobi {
         if t1 - t0 == 1 {
             for b in self.tasks[t0]..self.tasks[t0 + 1] {
                 let (start, end) = (self.starts[b], self.starts[b + 1]);
-                let k = end - start;
                 let inverse = &self.inverses[self.offsets[b]..self.offsets[b + 1]];
                 let rb = &r[start..end];
                 let zb = &mut z[start - offset..end - offset];
-                zb.fill(0.0);
-                // Row i of the lower triangle gives z_i its columns j ≤ i and, by symmetry,
-                // each z_j (j < i) its column i.
-                for i in 0..k {
-                    let row = &inverse[packed_index(i, 0)..packed_index(i, 0) + i + 1];
-                    let ri = rb[i];
-                    let mut zi = 0.0;
-                    for j in 0..i {
-                        zi += row[j] * rb[j];
-                        zb[j] += row[j] * ri;
-                    }
-                    zb[i] += zi + row[i] * ri;
+                // The common sizes (a vertex or a one-node entity, two or three nodes) with
+                // the size a constant: the loops unroll (the same sums, the same bits).
+                match end - start {
+                    3 => packed_product::<3>(inverse, rb, zb),
+                    6 => packed_product::<6>(inverse, rb, zb),
+                    9 => packed_product::<9>(inverse, rb, zb),
+                    _ => packed_product_any(inverse, rb, zb),
                 }
             }
             return;
@@ -272,6 +266,41 @@ impl BlockJacobi {
             || self.apply_tasks(t0, mid, r, left, offset),
             || self.apply_tasks(mid, t1, r, right, split),
         );
+    }
+}
+
+/// z = M r for the symmetric M whose lower triangle is packed in `inverse` (K × K): row i
+/// gives z_i its columns j ≤ i and, by symmetry, each z_j (j < i) its column i.
+#[inline(always)]
+fn packed_product<const K: usize>(inverse: &[f64], r: &[f64], z: &mut [f64]) {
+    let (inverse, r, z) = (&inverse[..K * (K + 1) / 2], &r[..K], &mut z[..K]);
+    let mut out = [0.0; K];
+    for i in 0..K {
+        let row = &inverse[packed_index(i, 0)..packed_index(i, 0) + i + 1];
+        let ri = r[i];
+        let mut zi = 0.0;
+        for j in 0..i {
+            zi += row[j] * r[j];
+            out[j] += row[j] * ri;
+        }
+        out[i] += zi + row[i] * ri;
+    }
+    z.copy_from_slice(&out);
+}
+
+/// [`packed_product`] for any size.
+fn packed_product_any(inverse: &[f64], r: &[f64], z: &mut [f64]) {
+    let k = r.len();
+    z.fill(0.0);
+    for i in 0..k {
+        let row = &inverse[packed_index(i, 0)..packed_index(i, 0) + i + 1];
+        let ri = r[i];
+        let mut zi = 0.0;
+        for j in 0..i {
+            zi += row[j] * r[j];
+            z[j] += row[j] * ri;
+        }
+        z[i] += zi + row[i] * ri;
     }
 }
 

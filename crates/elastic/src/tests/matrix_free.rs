@@ -356,3 +356,38 @@ fn the_single_precision_action_is_the_double_one_to_f32_round_off() {
         assert_eq!(fast, portable, "p = {p}");
     }
 }
+
+/// Timing of the matrix-free mat-vecs (f64 and f32 cell actions), and of the block-Jacobi
+/// smoother's B, on a p = 4 cube of
+/// 6 × 10³ tetrahedra (run with `--ignored --nocapture`, release): best of 30.
+#[test]
+#[ignore]
+fn mat_vec_timings() {
+    let (mesh, constraints, _) = system(&crate::p_multigrid::tests::tet_cube(10), 4);
+    let operator =
+        MatrixFreeStiffness::new(&mesh, &Material::default(), None, &constraints).unwrap();
+    let x = pseudo_random(operator.len());
+    let mut y = vec![0.0; operator.len()];
+    let single = SinglePrecision(&operator);
+    let blocks = operator.block_jacobi(&dof_cuts(&entity_node_cuts(&mesh), &constraints.first));
+    let mut best = [f64::MAX; 3];
+    for _ in 0..30 {
+        for (k, best) in best.iter_mut().enumerate() {
+            let t = std::time::Instant::now();
+            match k {
+                0 => operator.apply(&x, &mut y),
+                1 => single.apply(&x, &mut y),
+                _ => blocks.apply(&x, &mut y),
+            }
+            *best = best.min(t.elapsed().as_secs_f64());
+        }
+    }
+    println!(
+        "{} cells, {} unknowns: f64 {:.2} ms, f32 {:.2} ms, block Jacobi {:.2} ms",
+        mesh.cells.len(),
+        operator.len(),
+        1e3 * best[0],
+        1e3 * best[1],
+        1e3 * best[2]
+    );
+}
