@@ -269,30 +269,26 @@ impl BlockJacobi {
     }
 }
 
-/// z = M r for the symmetric M whose lower triangle is packed in `inverse` (K × K): row i
-/// gives z_i its columns j ≤ i and, by symmetry, each z_j (j < i) its column i.
+/// z = M r for the symmetric M whose lower triangle is packed in `inverse` (K × K), K a
+/// constant.
 #[inline(always)]
 fn packed_product<const K: usize>(inverse: &[f64], r: &[f64], z: &mut [f64]) {
-    let (inverse, r, z) = (&inverse[..K * (K + 1) / 2], &r[..K], &mut z[..K]);
     let mut out = [0.0; K];
-    for i in 0..K {
-        let row = &inverse[packed_index(i, 0)..packed_index(i, 0) + i + 1];
-        let ri = r[i];
-        let mut zi = 0.0;
-        for j in 0..i {
-            zi += row[j] * r[j];
-            out[j] += row[j] * ri;
-        }
-        out[i] += zi + row[i] * ri;
-    }
-    z.copy_from_slice(&out);
+    packed_product_into(&inverse[..K * (K + 1) / 2], &r[..K], &mut out);
+    z[..K].copy_from_slice(&out);
 }
 
 /// [`packed_product`] for any size.
 fn packed_product_any(inverse: &[f64], r: &[f64], z: &mut [f64]) {
-    let k = r.len();
     z.fill(0.0);
-    for i in 0..k {
+    packed_product_into(inverse, r, z);
+}
+
+/// z += M r (`r.len()` × `r.len()`, packed lower triangle): row i gives z_i its columns
+/// j ≤ i and, by symmetry, each z_j (j < i) its column i.
+#[inline(always)]
+fn packed_product_into(inverse: &[f64], r: &[f64], z: &mut [f64]) {
+    for i in 0..r.len() {
         let row = &inverse[packed_index(i, 0)..packed_index(i, 0) + i + 1];
         let ri = r[i];
         let mut zi = 0.0;

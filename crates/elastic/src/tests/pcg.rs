@@ -8,18 +8,23 @@ impl Preconditioner for Identity {
     }
 }
 
+/// The n × n tridiagonal matrix [d −1; −1 d −1; …].
+fn tridiagonal(n: usize, d: f64) -> StiffnessMatrix {
+    let rows = (0..n)
+        .map(|r| {
+            (r.saturating_sub(1)..(r + 2).min(n))
+                .map(|c| (c as u32, if c == r { d } else { -1.0 }))
+                .collect()
+        })
+        .collect();
+    from_rows(n, rows)
+}
+
 #[test]
 fn cg_solves_the_1d_laplacian_in_n_steps() {
     // [2 −1; −1 2 −1; …] x = e₀ + e_{n−1} has the solution x = 1.
     let n: usize = 40;
-    let rows = (0..n)
-        .map(|r| {
-            (r.saturating_sub(1)..(r + 2).min(n))
-                .map(|c| (c as u32, if c == r { 2.0 } else { -1.0 }))
-                .collect()
-        })
-        .collect();
-    let a = from_rows(n, rows);
+    let a = tridiagonal(n, 2.0);
     let mut b = vec![0.0; n];
     b[0] = 1.0;
     b[n - 1] = 1.0;
@@ -44,14 +49,7 @@ fn the_error_estimate_stops_within_its_bound_and_skips_the_last_preconditioning(
     // [4 −1; −1 4 −1; …] (condition number < 3): CG contracts the error steadily, by about
     // 0.27 per iteration, so the estimate's geometric tail is close to the truth.
     let n: usize = 200;
-    let rows = (0..n)
-        .map(|r| {
-            (r.saturating_sub(1)..(r + 2).min(n))
-                .map(|c| (c as u32, if c == r { 4.0 } else { -1.0 }))
-                .collect()
-        })
-        .collect();
-    let a = from_rows(n, rows);
+    let a = tridiagonal(n, 4.0);
     let b: Vec<f64> = (0..n).map(|i| ((i * 7919) % 101) as f64 / 101.0).collect();
     let mut exact = vec![0.0; n];
     pcg(&a, &b, &mut exact, &mut Identity, 1e-15, 1000);

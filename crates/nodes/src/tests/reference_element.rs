@@ -108,14 +108,7 @@ fn determinants_by_cofactors() {
 /// included) have the bits of the point-by-point Jacobians'.
 #[test]
 fn determinants_in_lane_blocks_have_the_bits_of_point_by_point_jacobians() {
-    for shape in [
-        Shape::Line,
-        Shape::Tri,
-        Shape::Quad,
-        Shape::Tet,
-        Shape::Hex,
-        Shape::Prism,
-    ] {
+    for shape in Shape::ALL {
         let element = ReferenceElement::shared(shape, 3, NodeFamily::Fekete).unwrap();
         // A curved element: the reference nodes moved by a smooth, non-polynomial field.
         let coords: Vec<[f64; 3]> = element
