@@ -302,7 +302,7 @@ pub(crate) fn determinant(
 }
 
 /// f − g (same degrees), with its error bound.
-fn difference(f: &Bounded, g: &Bounded) -> Bounded {
+pub(crate) fn difference(f: &Bounded, g: &Bounded) -> Bounded {
     Bounded {
         c: f.c.iter().zip(&g.c).map(|(a, b)| a - b).collect(),
         degree: f.degree,
