@@ -9,7 +9,7 @@
 //! grows over the first iterations, while the error components the preconditioner removes
 //! easily die out), the tail is first bounded with the largest ρ so far, which needs no
 //! preconditioning: when that already stops the solve, the iteration's V-cycle is saved
-//! (6 k sphere at p = 4 and 5: one of 8 and of 10, 28 and 90 ms). While ρ still grows, no
+//! (6 k sphere at p = 4: one of 8, 28 ms; at p = 5 one of 10). While ρ still grows, no
 //! earlier ρ stands in for the next: on the p = 3 equispaced sphere ρ runs 0.10, 0.13, 0.15,
 //! ≥ 0.21, and the largest so far stopped one iteration early, with an error 1.01 times the
 //! bound (5.4 times smaller with the fifth iteration).
