@@ -238,18 +238,27 @@ impl<'a> PMultigrid<'a> {
             constraints: std::borrow::Cow::Borrowed(constraints),
             cells_of_node: None,
         };
-        let smoother = matrix_free_smoother(a, &finest, options.smoother_degree);
-        let smoother_seconds = start.elapsed().as_secs_f64();
-        Self::with_coarse_levels(
+        // The finest smoother's spectrum estimate (parallel mat-vecs) and the coarser levels
+        // (largely serial: meshes, the p = 1 assembly and factorisation) built together, so
+        // that both cores stay busy (6 k sphere at p = 4: set-up 105 → 93 ms, best of 7).
+        let ((smoother, smoother_seconds), mut coarse) = rayon::join(
+            || {
+                let begin = Instant::now();
+                let smoother = matrix_free_smoother(a, &finest, options.smoother_degree);
+                (smoother, begin.elapsed().as_secs_f64())
+            },
+            || CoarseLevels::new(&finest, material, stiffening, options, true),
+        );
+        // Their smoothers' time is in the wall time the coarse levels add.
+        if let Ok(coarse) = &mut coarse {
+            coarse.smoother_seconds = 0.0;
+        }
+        Ok(Self::stacked(
             (Box::new(SinglePrecision(a)), smoother),
-            finest,
-            material,
-            stiffening,
-            options,
-            true,
+            coarse?,
             start,
             smoother_seconds,
-        )
+        ))
     }
 
     /// The hierarchy below the finest level (its operator and smoother given): the orders
@@ -264,11 +273,90 @@ impl<'a> PMultigrid<'a> {
         options: &SolverOptions,
         matrix_free: bool,
         start: Instant,
-        mut smoother_seconds: f64,
+        smoother_seconds: f64,
+    ) -> Result<Self, ElasticError> {
+        let coarse = CoarseLevels::new(&finest_mesh, material, stiffening, options, matrix_free)?;
+        Ok(Self::stacked(finest, coarse, start, smoother_seconds))
+    }
+
+    /// The finest level's operator and smoother on top of the coarser levels; `start` is
+    /// when the set-up began, `finest_smoother_seconds` the finest smoother's share.
+    fn stacked(
+        finest: (Box<dyn LinearOperator + 'a>, ChebyshevSmoother),
+        coarse: CoarseLevels<'a>,
+        start: Instant,
+        finest_smoother_seconds: f64,
+    ) -> Self {
+        let CoarseLevels {
+            smoothers: coarse_smoothers,
+            sizes,
+            transfers,
+            coarsest,
+            smoother_seconds,
+        } = coarse;
+        let smoother_seconds = finest_smoother_seconds + smoother_seconds;
+        // With the coarse levels built during the finest smoother's set-up: what they add.
+        let coarse_seconds = (start.elapsed().as_secs_f64() - smoother_seconds).max(0.0);
+        let smoothers = std::iter::once(finest).chain(
+            coarse_smoothers
+                .into_iter()
+                .map(|(operator, smoother)| (operator as Box<dyn LinearOperator + 'a>, smoother)),
+        );
+        let mut levels = Vec::new();
+        let mut transfers = transfers.into_iter();
+        for ((operator, smoother), size) in smoothers.zip(sizes) {
+            let transfer = transfers
+                .next()
+                .unwrap_or_else(|| Transfer::matrix(from_rows(0, vec![Vec::new(); size])));
+            let coarse_size = transfer.coarse_len();
+            levels.push(Level {
+                operator,
+                smoother,
+                transfer,
+                smoothing: SmootherScratch::new(size),
+                residual: vec![0.0; size],
+                correction: vec![0.0; size],
+                coarse_rhs: vec![0.0; coarse_size],
+                coarse_solution: vec![0.0; coarse_size],
+            });
+        }
+        PMultigrid {
+            levels,
+            coarsest,
+            coarse_seconds,
+            smoother_seconds,
+        }
+    }
+}
+
+/// The levels below the finest of a [`PMultigrid`]: built on their own, so that the matrix-
+/// free set-up can build them while the finest smoother estimates its spectrum.
+struct CoarseLevels<'a> {
+    /// The operator and smoother of each level below the finest, the finer first.
+    smoothers: Vec<(Box<dyn LinearOperator + Send + 'a>, ChebyshevSmoother)>,
+    /// The unknowns of every level, the finest's first.
+    sizes: Vec<usize>,
+    /// From each level's next coarser unknowns to its own.
+    transfers: Vec<Transfer>,
+    /// The p = 1 factorisation, if the hierarchy reached it.
+    coarsest: Option<Cholesky>,
+    /// Seconds spent setting up these levels' smoothers.
+    smoother_seconds: f64,
+}
+
+impl<'a> CoarseLevels<'a> {
+    /// The orders of [`level_orders`] below the finest one on the same cells, matrix-free
+    /// above p = 1 when `matrix_free`.
+    fn new(
+        finest_mesh: &LevelMesh,
+        material: &Material,
+        stiffening: Option<&[f64]>,
+        options: &SolverOptions,
+        matrix_free: bool,
     ) -> Result<Self, ElasticError> {
         let degree = options.smoother_degree;
         let smoothed = |matrix: &StiffnessMatrix,
-                        operator: Box<dyn LinearOperator + 'a>,
+                        operator: Box<dyn LinearOperator + Send + 'a>,
                         level: &LevelMesh,
                         seconds: &mut f64| {
             let start = Instant::now();
@@ -279,7 +367,9 @@ impl<'a> PMultigrid<'a> {
         };
         let mesh = &*finest_mesh.mesh;
         let constraints = &*finest_mesh.constraints;
-        let mut smoothers = vec![finest];
+        let mut smoothers: Vec<(Box<dyn LinearOperator + Send + 'a>, ChebyshevSmoother)> =
+            Vec::new();
+        let mut smoother_seconds = 0.0;
         let mut level_meshes = vec![LevelMesh {
             mesh: std::borrow::Cow::Borrowed(mesh),
             constraints: std::borrow::Cow::Borrowed(constraints),
@@ -353,7 +443,7 @@ impl<'a> PMultigrid<'a> {
                 // The f64 matrix is dropped once the smoother is set up: only its f32
                 // node-block copy stays.
                 let pattern = BlockPattern::new(&condensed, &assembled.graph, &level.constraints);
-                let operator: Box<dyn LinearOperator> = match pattern {
+                let operator: Box<dyn LinearOperator + Send> = match pattern {
                     Some(p) => Box::new(BlockOperator::single(p, &condensed)),
                     None => Box::new(condensed.clone()),
                 };
@@ -393,31 +483,11 @@ impl<'a> PMultigrid<'a> {
         let coarsest = coarsest_matrix
             .map(|m| Cholesky::new(&m, "coarse matrix"))
             .transpose()?;
-        let coarse_seconds = start.elapsed().as_secs_f64() - smoother_seconds;
-
-        let mut levels = Vec::new();
-        let mut transfers = transfers.into_iter();
-        for ((operator, smoother), level) in smoothers.into_iter().zip(&level_meshes) {
-            let size = level.constraints.len();
-            let transfer = transfers
-                .next()
-                .unwrap_or_else(|| Transfer::matrix(from_rows(0, vec![Vec::new(); size])));
-            let coarse_size = transfer.coarse_len();
-            levels.push(Level {
-                operator,
-                smoother,
-                transfer,
-                smoothing: SmootherScratch::new(size),
-                residual: vec![0.0; size],
-                correction: vec![0.0; size],
-                coarse_rhs: vec![0.0; coarse_size],
-                coarse_solution: vec![0.0; coarse_size],
-            });
-        }
-        Ok(PMultigrid {
-            levels,
+        Ok(CoarseLevels {
+            smoothers,
+            sizes: level_meshes.iter().map(|l| l.constraints.len()).collect(),
+            transfers,
             coarsest,
-            coarse_seconds,
             smoother_seconds,
         })
     }
