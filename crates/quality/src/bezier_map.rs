@@ -284,14 +284,10 @@ pub(crate) fn determinant(
         let b = square(&partials[0][1], &partials[1][0]);
         return difference(&a, &b);
     }
-    let minor = |a: usize, b: usize| {
-        let one = square(&partials[1][a], &partials[2][b]);
-        let two = square(&partials[1][b], &partials[2][a]);
-        difference(&one, &two)
-    };
-    let t0 = cube(&partials[0][0], &minor(1, 2));
-    let t1 = cube(&partials[0][1], &minor(0, 2));
-    let t2 = cube(&partials[0][2], &minor(0, 1));
+    let [m0, m1, m2] = cofactor_minors(partials, &square);
+    let t0 = cube(&partials[0][0], &m0);
+    let t1 = cube(&partials[0][1], &m1);
+    let t2 = cube(&partials[0][2], &m2);
     let sum = difference(&t0, &t1);
     let mut total = sum.clone();
     for (out, v) in total.c.iter_mut().zip(&t2.c) {
@@ -299,6 +295,21 @@ pub(crate) fn determinant(
     }
     total.error = sum.error + t2.error + 2.0 * f64::EPSILON * (sum.max_abs() + t2.max_abs());
     total
+}
+
+/// The 2 × 2 minors of rows 1 and 2 of the 3D partials that multiply ∂x₀/∂ξ₀, ∂x₀/∂ξ₁ and
+/// ∂x₀/∂ξ₂ in the cofactor expansion of det J (the middle one with its sign left out):
+/// columns (1, 2), (0, 2), (0, 1); `square` multiplies two partials.
+pub(crate) fn cofactor_minors(
+    partials: &[Vec<Bounded>],
+    square: impl Fn(&Bounded, &Bounded) -> Bounded,
+) -> [Bounded; 3] {
+    let minor = |a: usize, b: usize| {
+        let one = square(&partials[1][a], &partials[2][b]);
+        let two = square(&partials[1][b], &partials[2][a]);
+        difference(&one, &two)
+    };
+    [minor(1, 2), minor(0, 2), minor(0, 1)]
 }
 
 /// f − g (same degrees), with its error bound.

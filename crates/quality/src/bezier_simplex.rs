@@ -19,7 +19,7 @@
 use hocurve_nodes::{NodeFamily, ReferenceElement, Shape};
 use nalgebra::DMatrix;
 
-use crate::bezier_map::{binomial_table, determinant, difference, Bounded};
+use crate::bezier_map::{binomial_table, cofactor_minors, determinant, Bounded};
 use crate::{BernsteinSpace, QualityError};
 
 /// The multi-indices (α_1, α_2, α_3) of total degree ≤ … of the simplex lattice of
@@ -342,12 +342,7 @@ impl SimplexJacobian {
             // The cofactor expansion along ∂x₀ (as `determinant` orders it), its three
             // products summed in one pass.
             Some(cube) => {
-                let minor = |a: usize, b: usize| {
-                    let one = square(&partials[1][a], &partials[2][b]);
-                    let two = square(&partials[1][b], &partials[2][a]);
-                    difference(&one, &two)
-                };
-                let minors = [minor(1, 2), minor(0, 2), minor(0, 1)];
+                let minors = cofactor_minors(&partials, square);
                 let row = &partials[0];
                 cube.cofactor_sum(
                     [&row[0], &row[1], &row[2]],
