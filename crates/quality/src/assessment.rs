@@ -56,7 +56,7 @@ fn assess_where(
     let stretch = stretching(mesh)?;
     let validity = options
         .bezier
-        .map(|bezier| check_validity_where(mesh, &bezier, affine))
+        .map(|bezier| check_validity_where(mesh, &bezier, affine, Some(&scaled)))
         .transpose()?;
     let kinds: Vec<Shape> = mesh.cells.iter().map(|c| c.kind).collect();
     let summary = QualitySummary::new(&kinds, &scaled, &stretch, validity.as_deref());

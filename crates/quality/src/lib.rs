@@ -64,5 +64,6 @@ pub use summary::{
     STRETCHING_BIN_EDGES, STRETCHING_THRESHOLD,
 };
 pub use validity::{
-    check_validity, BezierOptions, BezierWorkspace, JacobianBezier, Validity, ValidityCheck,
+    check_validity, BezierOptions, BezierWorkspace, JacobianBezier, NarrowingGoal, Validity,
+    ValidityCheck,
 };

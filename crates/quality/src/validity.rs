@@ -99,6 +99,20 @@ impl Default for BezierOptions {
     }
 }
 
+/// Where [`JacobianBezier::refine_bounds`] stops narrowing an element's certified Ĩ.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NarrowingGoal {
+    /// A certified lower bound of Ĩ that is enough (the mesh's: a fraction of its smallest
+    /// sampled Ĩ).
+    pub target: f64,
+    /// Enough when the element's own upper bound of Ĩ is below `target`: this fraction of
+    /// that upper bound.
+    pub relative: f64,
+    /// Regions the element may be split into (regions of more than 1 000 coefficients
+    /// count in proportion to their size).
+    pub max_regions: usize,
+}
+
 /// The result of the Bézier check on one element.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct ValidityCheck {
@@ -696,18 +710,29 @@ impl JacobianBezier {
     /// [`Self::check_with`]) by best-first subdivision (see [`crate::bound_refinement`]):
     /// splits the region holding the smallest coefficient — or the largest, when that end of
     /// the interval is relatively further from the values found — until the certified
-    /// lower bound of Ĩ reaches `target` or `max_regions` regions are in use. Returns
-    /// `check` with the narrower bounds (never wider ones); other verdicts are returned as
-    /// they are.
+    /// lower bound of Ĩ reaches `goal.target`; or, once the element's own upper bound (the
+    /// check's, lowered by every value of det J met) shows the target out of reach,
+    /// `goal.relative` times that upper bound; or `goal.max_regions` regions are in use. Returns `check` with the narrower bounds (never wider ones); other
+    /// verdicts are returned as they are.
     pub fn refine_bounds(
         &self,
         coords: &[[f64; 3]],
         check: &ValidityCheck,
-        target: f64,
-        max_regions: usize,
+        goal: &NarrowingGoal,
         ws: &mut BezierWorkspace,
     ) -> ValidityCheck {
-        if check.validity != Validity::Valid || check.scaled_jacobian_lower_bound >= target {
+        let NarrowingGoal {
+            target,
+            relative,
+            max_regions,
+        } = *goal;
+        // Past the target; or the target is out of reach (the element's Ĩ is below it) and
+        // the bound is within `relative` of the element's own upper bound.
+        let reached = |c: &ValidityCheck| {
+            let (lower, upper) = (c.scaled_jacobian_lower_bound, c.scaled_jacobian_upper_bound);
+            lower >= target || (upper < target && lower >= relative * upper)
+        };
+        if check.validity != Validity::Valid || reached(check) {
             return *check;
         }
         let Some((root, margin)) = self.root_coefficients(coords, ws) else {
@@ -759,7 +784,11 @@ impl JacobianBezier {
                 best.max_jacobian_upper_bound = best.max_jacobian_upper_bound.min(upper);
                 best.scaled_jacobian_lower_bound = lower / upper;
             }
-            if best.scaled_jacobian_lower_bound >= target || regions.len() + children - 1 > budget {
+            if sampled.0 > 0.0 && sampled.1 > 0.0 {
+                best.scaled_jacobian_upper_bound =
+                    best.scaled_jacobian_upper_bound.min(sampled.0 / sampled.1);
+            }
+            if reached(&best) || regions.len() + children - 1 > budget {
                 break;
             }
             // Split where the interval is relatively loosest (the smallest coefficient
@@ -910,15 +939,18 @@ pub fn check_validity(
     mesh: &HighOrderMesh,
     options: &BezierOptions,
 ) -> Result<Vec<ValidityCheck>, QualityError> {
-    check_validity_where(mesh, options, None)
+    check_validity_where(mesh, options, None, None)
 }
 
 /// [`check_validity`], with the cells flagged in `affine` (simplices whose nodes are the
-/// straight-sided ones) decided by the sign of their constant det J.
+/// straight-sided ones) decided by the sign of their constant det J, and each cell's
+/// scaled Jacobian sampled elsewhere (`sampled`, e.g. at the degree-2p points: min/max
+/// over points, an upper bound of the true Ĩ of a valid cell) lowering its upper bound.
 pub(crate) fn check_validity_where(
     mesh: &HighOrderMesh,
     options: &BezierOptions,
     affine: Option<&[bool]>,
+    sampled: Option<&[f64]>,
 ) -> Result<Vec<ValidityCheck>, QualityError> {
     let shapes = check_cells(mesh)?;
     let checkers: BTreeMap<Shape, JacobianBezier> = shapes
@@ -954,6 +986,15 @@ pub(crate) fn check_validity_where(
             check
         })
         .collect();
+    let mut checks = checks;
+    if let Some(sampled) = sampled {
+        for (check, &s) in checks.iter_mut().zip(sampled) {
+            // Only a valid cell's sampled ratio bounds its Ĩ from above (both extremes > 0).
+            if check.validity == Validity::Valid && s > 0.0 && s.is_finite() {
+                check.scaled_jacobian_upper_bound = check.scaled_jacobian_upper_bound.min(s);
+            }
+        }
+    }
     Ok(narrow_bounds(mesh, &checkers, checks, options))
 }
 
@@ -978,6 +1019,11 @@ fn narrow_bounds(
     if target.is_nan() || target <= 0.0 {
         return checks;
     }
+    let goal = NarrowingGoal {
+        target,
+        relative: options.tightness,
+        max_regions: options.max_regions,
+    };
     checks
         .par_iter_mut()
         .enumerate()
@@ -986,8 +1032,7 @@ fn narrow_bounds(
             let cell = &mesh.cells[c];
             let mut coords = std::mem::take(&mut ws.coords);
             gather(mesh, cell, &mut coords);
-            *check =
-                checkers[&cell.kind].refine_bounds(&coords, check, target, options.max_regions, ws);
+            *check = checkers[&cell.kind].refine_bounds(&coords, check, &goal, ws);
             ws.coords = coords;
         });
     checks

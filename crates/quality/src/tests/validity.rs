@@ -336,7 +336,12 @@ fn narrowed_bounds_close_in_on_the_true_scaled_jacobian() {
             check.scaled_jacobian_lower_bound < 0.9 * exact,
             "{kind}: {check:?}"
         );
-        let narrowed = checker.refine_bounds(&coords, &check, 0.95 * exact, 4096, &mut ws);
+        let goal = |max_regions| NarrowingGoal {
+            target: 0.95 * exact,
+            relative: 0.95,
+            max_regions,
+        };
+        let narrowed = checker.refine_bounds(&coords, &check, &goal(4096), &mut ws);
         let (lo, hi) = (
             narrowed.scaled_jacobian_lower_bound,
             narrowed.scaled_jacobian_upper_bound,
@@ -350,10 +355,53 @@ fn narrowed_bounds_close_in_on_the_true_scaled_jacobian() {
         assert!(narrowed.max_jacobian_upper_bound >= a + 0.49 * b - 1e-9);
         assert_eq!(narrowed.validity, Validity::Valid);
         // With a budget of one region the bounds stay.
-        let kept = checker.refine_bounds(&coords, &check, 0.95 * exact, 1, &mut ws);
+        let kept = checker.refine_bounds(&coords, &check, &goal(1), &mut ws);
         assert_eq!(
             kept.scaled_jacobian_lower_bound,
             check.scaled_jacobian_lower_bound
+        );
+    }
+}
+
+/// An element whose Ĩ lies below the mesh's target (the target came from values elsewhere,
+/// or from corner values that miss its minimum) cannot reach it: narrowing stops once the
+/// bound is within `relative` of the element's own upper bound, in a few regions, instead
+/// of spending the whole budget (every cell of a layered sphere shell at p = 3 did: 57 s).
+#[test]
+fn narrowing_stops_at_the_elements_own_bound_when_the_target_is_out_of_reach() {
+    let (a, b) = (0.1, 4.0);
+    let exact = a / (a + 0.49 * b);
+    for kind in ALL_TYPES {
+        let mesh = single_element(kind, 3, |x| {
+            [a * x[0] + b / 3.0 * (x[0] - 0.3).powi(3), x[1], x[2]]
+        });
+        let checker = JacobianBezier::new(kind, 3, mesh.family).unwrap();
+        let coords: Vec<[f64; 3]> = mesh.cells[0]
+            .nodes
+            .iter()
+            .map(|&n| mesh.nodes[n as usize])
+            .collect();
+        let mut ws = BezierWorkspace::default();
+        let check = checker.check_with(&coords, &BezierOptions::default(), &mut ws);
+        let goal = NarrowingGoal {
+            target: 0.99,
+            relative: 0.95,
+            max_regions: 4096,
+        };
+        let narrowed = checker.refine_bounds(&coords, &check, &goal, &mut ws);
+        let (lo, hi) = (
+            narrowed.scaled_jacobian_lower_bound,
+            narrowed.scaled_jacobian_upper_bound,
+        );
+        assert!(
+            lo >= 0.95 * hi && lo <= exact + 1e-9,
+            "{kind}: {lo} {hi} vs {exact}"
+        );
+        assert!(hi >= exact - 1e-9, "{kind}: {hi} vs {exact}");
+        assert!(
+            narrowed.regions < 400,
+            "{kind}: {} regions",
+            narrowed.regions
         );
     }
 }
