@@ -39,6 +39,7 @@ mod nodal_sets;
 mod quadrature;
 mod reference;
 mod reference_element;
+mod symmetric_triangle;
 mod warp_blend;
 
 pub use basis::{OrthonormalBasis, MAX_BASIS_ORDER};

@@ -10,6 +10,7 @@
 //! degree ≤ 2n − 1 ≥ degree on simplices (degree ≤ 2n − 1 in each variable on boxes).
 
 use crate::gauss::{gauss_jacobi, gauss_legendre, Rule1D};
+use crate::symmetric_triangle::symmetric_triangle;
 use crate::Shape;
 
 /// A quadrature rule on a reference element: ∫ f ≈ Σᵢ wᵢ f(ξᵢ).
@@ -62,6 +63,35 @@ impl QuadratureRule {
                 rule
             }
         }
+    }
+
+    /// A rule exact to `degree` like [`QuadratureRule::new`], with fewer points where a
+    /// fully symmetric triangle rule is known that has fewer (even degrees 2 to 8: 3, 6,
+    /// 12, 16 points against 4, 9, 16, 25): triangles, and prisms as that rule × the Gauss
+    /// line rule (at degree 6, 48 points instead of 64). Otherwise `new`'s rule.
+    pub fn symmetric(shape: Shape, degree: usize) -> QuadratureRule {
+        let collapsed = (degree / 2 + 1).pow(2);
+        let symmetric = match shape {
+            Shape::Tri | Shape::Prism => {
+                symmetric_triangle(degree).filter(|rule| rule.len() < collapsed)
+            }
+            _ => None,
+        };
+        let Some(tri) = symmetric else {
+            return QuadratureRule::new(shape, degree);
+        };
+        if shape == Shape::Tri {
+            return tri;
+        }
+        let line = unit_interval(&gauss_legendre(degree / 2 + 1), 1.0);
+        let mut rule = QuadratureRule::with_capacity(tri.len() * line.len());
+        for (&z, &wz) in line.points.iter().zip(&line.weights) {
+            for (p, &w) in tri.points.iter().zip(&tri.weights) {
+                rule.points.push([p[0], p[1], z]);
+                rule.weights.push(w * wz);
+            }
+        }
+        rule
     }
 
     fn with_capacity(n: usize) -> QuadratureRule {

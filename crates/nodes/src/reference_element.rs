@@ -14,8 +14,9 @@ use crate::{LagrangeBasis, NodeFamily, NodesError, QuadratureRule, ReferenceNode
 pub struct ReferenceElement {
     nodes: ReferenceNodes,
     basis: LagrangeBasis,
-    /// The basis at the points of the degree-d quadrature rule, by d, filled on first use.
-    quadrature: Mutex<BTreeMap<usize, Arc<TabulatedBasis>>>,
+    /// The basis at the points of the degree-d quadrature rule, by d and whether the rule
+    /// is [`QuadratureRule::symmetric`], filled on first use.
+    quadrature: Mutex<BTreeMap<(usize, bool), Arc<TabulatedBasis>>>,
 }
 
 type Key = (Shape, usize, NodeFamily);
@@ -95,9 +96,23 @@ impl ReferenceElement {
     /// The basis at the points of the [`QuadratureRule`] exact to `degree`, with its weights;
     /// tabulated on first use and shared afterwards.
     pub fn quadrature(&self, degree: usize) -> Arc<TabulatedBasis> {
+        self.tabulated_rule(degree, false)
+    }
+
+    /// The same at the points of [`QuadratureRule::symmetric`] (fewer on triangles and
+    /// prisms at even degrees to 8).
+    pub fn symmetric_quadrature(&self, degree: usize) -> Arc<TabulatedBasis> {
+        self.tabulated_rule(degree, true)
+    }
+
+    fn tabulated_rule(&self, degree: usize, symmetric: bool) -> Arc<TabulatedBasis> {
         let mut rules = lock(&self.quadrature);
-        Arc::clone(rules.entry(degree).or_insert_with(|| {
-            let rule = QuadratureRule::new(self.shape(), degree);
+        Arc::clone(rules.entry((degree, symmetric)).or_insert_with(|| {
+            let rule = if symmetric {
+                QuadratureRule::symmetric(self.shape(), degree)
+            } else {
+                QuadratureRule::new(self.shape(), degree)
+            };
             Arc::new(TabulatedBasis::new(&self.basis, &rule.points, rule.weights))
         }))
     }
