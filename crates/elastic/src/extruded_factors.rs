@@ -16,6 +16,7 @@
 
 use hocurve_nodes::{ReferenceElement, Shape};
 
+use crate::matrix_free::CellReal;
 use crate::reference_element::ReferenceStiffness;
 
 /// Coordinates closer than this (reference element of size 1) are the same.
@@ -37,22 +38,42 @@ pub(crate) struct ExtrudedFactors {
     node: Vec<u32>,
     /// Rule point of (q, j) at `q q_l + j`.
     point: Vec<u32>,
+    /// The tables in f64 (CG's operator) and in f32 (the smoothers').
+    double: FactorTables<f64>,
+    single: FactorTables<f32>,
+}
+
+/// The factors' numbers in one precision.
+#[derive(Debug, Clone)]
+pub(crate) struct FactorTables<T> {
     /// The rule's weight of each point, in the order of `point`.
-    weight: Vec<f64>,
+    weight: Vec<T>,
     /// Per (q, t): ∂_α φ_t(ξ̄_q) for the base directions α, then φ_t(ξ̄_q), at
     /// `(q n_b + t) dim + α`.
-    base: Vec<f64>,
+    base: Vec<T>,
     /// ψ_l(ζ_j) and ψ′_l(ζ_j) at `l q_l + j`.
-    line_value_t: Vec<f64>,
-    line_deriv_t: Vec<f64>,
+    line_value_t: Vec<T>,
+    line_deriv_t: Vec<T>,
+}
+
+impl FactorTables<f64> {
+    fn narrowed<T: CellReal>(&self) -> FactorTables<T> {
+        let to = |v: &[f64]| v.iter().map(|&x| T::of(x)).collect();
+        FactorTables {
+            weight: to(&self.weight),
+            base: to(&self.base),
+            line_value_t: to(&self.line_value_t),
+            line_deriv_t: to(&self.line_deriv_t),
+        }
+    }
 }
 
 /// Scratch of one cell action.
 #[derive(Debug, Default)]
-pub(crate) struct ExtrudedScratch {
-    a: Vec<f64>,
-    a_prime: Vec<f64>,
-    v: Vec<f64>,
+pub(crate) struct ExtrudedScratch<T> {
+    a: Vec<T>,
+    a_prime: Vec<T>,
+    v: Vec<T>,
 }
 
 /// Base points, line values, and the point of each (base, line) pair at `t n_l + l`.
@@ -156,6 +177,12 @@ impl ExtrudedFactors {
                 line_deriv_t[l * ql + j] = grads[at][axis];
             }
         }
+        let double = FactorTables {
+            weight: point.iter().map(|&k| rule.weights()[k]).collect(),
+            base,
+            line_value_t,
+            line_deriv_t,
+        };
         let factors = ExtrudedFactors {
             nb,
             nl,
@@ -163,10 +190,8 @@ impl ExtrudedFactors {
             ql,
             node: node.iter().map(|&b| b as u32).collect(),
             point: point.iter().map(|&k| k as u32).collect(),
-            weight: point.iter().map(|&k| rule.weights()[k]).collect(),
-            base,
-            line_value_t,
-            line_deriv_t,
+            single: double.narrowed(),
+            double,
         };
         factors.reproduces(reference).then_some(factors)
     }
@@ -187,10 +212,10 @@ impl ExtrudedFactors {
                 for t in 0..self.nb {
                     for l in 0..self.nl {
                         let b = self.node[t * self.nl + l] as usize;
-                        let base = &self.base[(q * self.nb + t) * dim..][..dim];
+                        let base = &self.double.base[(q * self.nb + t) * dim..][..dim];
                         let (line, slope) = (
-                            self.line_value_t[l * self.ql + j],
-                            self.line_deriv_t[l * self.ql + j],
+                            self.double.line_value_t[l * self.ql + j],
+                            self.double.line_deriv_t[l * self.ql + j],
                         );
                         // ∂_α Φ = ∂_α φ ψ in the base, φ ψ′ along the line.
                         let factored = |alpha: usize| {
@@ -221,15 +246,16 @@ impl ExtrudedFactors {
     /// The weighted gradient modes of one cell: `modes[d stride + α m + q q_l + j]` =
     /// w ∂u_d/∂ξ_α at point (q, j), from `x[d n + b]` (m the rule's size, n the nodes).
     #[inline(always)]
-    pub(crate) fn gradients<const D: usize>(
+    pub(crate) fn gradients<T: CellReal, const D: usize>(
         &self,
-        x: &[f64],
+        x: &[T],
         n: usize,
-        modes: &mut [f64],
+        modes: &mut [T],
         stride: usize,
-        scratch: &mut ExtrudedScratch,
+        scratch: &mut ExtrudedScratch<T>,
     ) {
         let (nb, nl, qb, ql) = (self.nb, self.nl, self.qb, self.ql);
+        let tables = T::extruded_tables(self);
         let m = qb * ql;
         // Rows of (d, j) pairs, padded to whole lanes.
         let row = (D * ql).div_ceil(LANES) * LANES;
@@ -247,8 +273,8 @@ impl ExtrudedFactors {
             for l in 0..nl {
                 let b = self.node[t * nl + l] as usize;
                 let (values, derivs) = (
-                    &self.line_value_t[l * ql..][..ql],
-                    &self.line_deriv_t[l * ql..][..ql],
+                    &tables.line_value_t[l * ql..][..ql],
+                    &tables.line_deriv_t[l * ql..][..ql],
                 );
                 for d in 0..D {
                     let v = x[d * n + b];
@@ -258,8 +284,8 @@ impl ExtrudedFactors {
                         .zip(out_prime.iter_mut())
                         .zip(values.iter().zip(derivs))
                     {
-                        *o += f * v;
-                        *op += g * v;
+                        *o += *f * v;
+                        *op += *g * v;
                     }
                 }
             }
@@ -267,10 +293,10 @@ impl ExtrudedFactors {
         // Per base point q and lane block: Σ_t ∂_α φ_t(ξ̄_q) A[t] (α in the base) and
         // Σ_t φ_t(ξ̄_q) A′[t], accumulated in registers.
         for q in 0..qb {
-            let weights = &self.weight[q * ql..][..ql];
-            let base_q = &self.base[q * nb * D..][..nb * D];
+            let weights = &tables.weight[q * ql..][..ql];
+            let base_q = &tables.base[q * nb * D..][..nb * D];
             for k0 in (0..row).step_by(LANES) {
-                let mut acc = [[0.0f64; LANES]; D];
+                let mut acc = [[T::default(); LANES]; D];
                 for (f, (at, at_prime)) in base_q
                     .chunks_exact(D)
                     .zip(a.chunks_exact(row).zip(a_prime.chunks_exact(row)))
@@ -295,7 +321,7 @@ impl ExtrudedFactors {
                     let out = &mut modes[d * stride + alpha * m + q * ql..][..ql];
                     let from = &rows[alpha * row + d * ql..][..ql];
                     for ((o, w), v) in out.iter_mut().zip(weights).zip(from) {
-                        *o = w * v;
+                        *o = *w * *v;
                     }
                 }
             }
@@ -305,15 +331,16 @@ impl ExtrudedFactors {
     /// The transpose: `y[d n_padded + b]` = Σ_(α, k) ∂_α Φ_b(k) `modes[d stride + α m + k]`,
     /// the points k in the order of [`Self::points`] (unweighted).
     #[inline(always)]
-    pub(crate) fn transpose<const D: usize>(
+    pub(crate) fn transpose<T: CellReal, const D: usize>(
         &self,
-        modes: &[f64],
+        modes: &[T],
         stride: usize,
-        y: &mut [f64],
+        y: &mut [T],
         n_padded: usize,
-        scratch: &mut ExtrudedScratch,
+        scratch: &mut ExtrudedScratch<T>,
     ) {
         let (nb, nl, qb, ql) = (self.nb, self.nl, self.qb, self.ql);
+        let tables = T::extruded_tables(self);
         let m = qb * ql;
         let row = (D * ql).div_ceil(LANES) * LANES;
         let ExtrudedScratch { a, a_prime, v } = scratch;
@@ -332,9 +359,9 @@ impl ExtrudedFactors {
         zeroed(a_prime, nb * row);
         for t in 0..nb {
             for k0 in (0..row).step_by(LANES) {
-                let (mut acc, mut acc_prime) = ([0.0f64; LANES], [0.0f64; LANES]);
+                let (mut acc, mut acc_prime) = ([T::default(); LANES], [T::default(); LANES]);
                 for q in 0..qb {
-                    let f = &self.base[(q * nb + t) * D..][..D];
+                    let f = &tables.base[(q * nb + t) * D..][..D];
                     let vq = &v[q * D * row..][..D * row];
                     for alpha in 0..D - 1 {
                         let va = &vq[alpha * row + k0..][..LANES];
@@ -357,14 +384,14 @@ impl ExtrudedFactors {
             for l in 0..nl {
                 let b = self.node[t * nl + l] as usize;
                 let (values, derivs) = (
-                    &self.line_value_t[l * ql..][..ql],
-                    &self.line_deriv_t[l * ql..][..ql],
+                    &tables.line_value_t[l * ql..][..ql],
+                    &tables.line_deriv_t[l * ql..][..ql],
                 );
                 for d in 0..D {
                     let (c, c_prime) = (&ct[d * ql..][..ql], &ct_prime[d * ql..][..ql]);
-                    let mut s = 0.0;
+                    let mut s = T::default();
                     for ((f, g), (u, w)) in values.iter().zip(derivs).zip(c.iter().zip(c_prime)) {
-                        s += f * u + g * w;
+                        s += *f * *u + *g * *w;
                     }
                     y[d * n_padded + b] = s;
                 }
@@ -374,9 +401,21 @@ impl ExtrudedFactors {
 }
 
 /// `buffer` as `len` zeros, reusing its allocation.
-fn zeroed(buffer: &mut Vec<f64>, len: usize) {
+fn zeroed<T: CellReal>(buffer: &mut Vec<T>, len: usize) {
     buffer.clear();
-    buffer.resize(len, 0.0);
+    buffer.resize(len, T::default());
+}
+
+impl ExtrudedFactors {
+    /// The tables in f64.
+    pub(crate) fn double(&self) -> &FactorTables<f64> {
+        &self.double
+    }
+
+    /// The tables in f32.
+    pub(crate) fn single(&self) -> &FactorTables<f32> {
+        &self.single
+    }
 }
 
 #[cfg(test)]
@@ -422,8 +461,8 @@ mod tests {
         let mut modes = vec![0.0; D * stride];
         let mut scratch = ExtrudedScratch::default();
         match dim {
-            2 => factors.gradients::<2>(&x, n, &mut modes, stride, &mut scratch),
-            _ => factors.gradients::<3>(&x, n, &mut modes, stride, &mut scratch),
+            2 => factors.gradients::<f64, 2>(&x, n, &mut modes, stride, &mut scratch),
+            _ => factors.gradients::<f64, 3>(&x, n, &mut modes, stride, &mut scratch),
         }
         let mut largest = 0.0_f64;
         let mut error = 0.0_f64;
@@ -451,8 +490,8 @@ mod tests {
             .collect();
         let mut y = vec![0.0; D * n];
         match dim {
-            2 => factors.transpose::<2>(&v, stride, &mut y, n, &mut scratch),
-            _ => factors.transpose::<3>(&v, stride, &mut y, n, &mut scratch),
+            2 => factors.transpose::<f64, 2>(&v, stride, &mut y, n, &mut scratch),
+            _ => factors.transpose::<f64, 3>(&v, stride, &mut y, n, &mut scratch),
         }
         let (mut largest, mut error) = (0.0_f64, 0.0_f64);
         for d in 0..dim {

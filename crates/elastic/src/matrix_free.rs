@@ -18,7 +18,9 @@
 //! The same factors give the diagonal blocks of Tᵀ K T that the block-Jacobi smoother
 //! inverts ([`MatrixFreeStiffness::block_jacobi`]). The smoothers apply the operator with
 //! f32 cell products ([`SinglePrecision`]: eight lanes per AVX2 register instead of four;
-//! p = 6 sphere, 1 236 tets: CG iterations 0.88 → 0.62 s), CG itself in f64.
+//! p = 6 sphere, 1 236 tets: CG iterations 0.88 → 0.62 s), CG itself in f64. The stresses
+//! of [`POINT_LANES`] modes are computed side by side ([`stress_modes`]), their J⁻¹ stored
+//! component by component ([`ShapePart::point_geometry`]) where they vary by point.
 
 use std::sync::atomic::AtomicU64;
 use std::sync::Arc;
@@ -31,7 +33,7 @@ use crate::block_jacobi::{block_offsets, packed_index, BlockJacobi};
 use crate::cell_runs::{add_to, prefetch, CellRuns, ReducedNodes, SharedSum};
 use crate::condensation::Constraints;
 use crate::element_matrix::invert_jacobian;
-use crate::extruded_factors::{ExtrudedFactors, ExtrudedScratch};
+use crate::extruded_factors::{ExtrudedFactors, ExtrudedScratch, FactorTables};
 use crate::pcg::LinearOperator;
 use crate::reference_element::ReferenceStiffness;
 use crate::{ElasticError, Material};
@@ -44,8 +46,13 @@ const RANK_TOLERANCE: f64 = 1e-10;
 /// (`fixtures/cad/cylinder_layers`, `--elastic-layers`, 2 cores): CG iterations 11.1 s
 /// against 15.7 s at p = 4, 20.9 s against 40.8 s at p = 5; on 31 k prisms at p = 3
 /// (issue 21's cylinder) 28.6 s against 25.6 s: below p = 4 the dense products, fewer flops
-/// saved and register-blocked, are as fast.
+/// saved and register-blocked, are as fast. Both in f32 in the smoothers (session 22; the
+/// layered sphere shell of `bench --layers`, 12 k curved prisms, ns per unknown and CG
+/// iteration): p = 3 215–218 factorised against 158–162 dense, p = 2 76 against 49; at
+/// p = 4 385 against 363, within the machine's noise.
 const FACTORISED_FROM_ORDER: usize = 4;
+/// Quadrature points (modes) whose stresses are computed side by side in the cell action.
+const POINT_LANES: usize = 8;
 /// How many of a run's nodes ahead the gathers and scatters prefetch.
 const PREFETCH_AHEAD: usize = 12;
 /// Outputs accumulated together in the cell action's two products: two AVX2 registers of
@@ -55,7 +62,7 @@ const SINGLE_LANES: usize = 16;
 
 /// The floating-point type of a cell action: f64 for CG's operator, f32 for the smoothers'
 /// mat-vecs (twice the products per instruction; the sums over cells stay in f64).
-trait CellReal:
+pub(crate) trait CellReal:
     Copy
     + Default
     + Send
@@ -71,32 +78,10 @@ trait CellReal:
     fn lane_factors(reference: &ReferenceGradients) -> &LaneFactors<Self>;
     /// J⁻¹ and |det J| in this precision (see [`ShapePart::geometry`]).
     fn geometry(part: &ShapePart) -> &[[Self; 10]];
-    /// The gradient modes by sum factorisation, when `part` has it in this precision;
-    /// false: use the dense factors. Sum factorisation is f64 only: an operator with such
-    /// parts is not applied in f32 ([`MatrixFreeStiffness::single`]).
-    #[inline(always)]
-    fn factorised_gradients<const D: usize>(
-        _part: &ShapePart,
-        _x: &[Self],
-        _n: usize,
-        _modes: &mut [Self],
-        _stride: usize,
-        _scratch: &mut ExtrudedScratch,
-    ) -> bool {
-        false
-    }
-    /// Its transpose, likewise.
-    #[inline(always)]
-    fn factorised_transpose<const D: usize>(
-        _part: &ShapePart,
-        _modes: &[Self],
-        _stride: usize,
-        _y: &mut [Self],
-        _n_padded: usize,
-        _scratch: &mut ExtrudedScratch,
-    ) -> bool {
-        false
-    }
+    /// The same per point (see [`ShapePart::point_geometry`]).
+    fn point_geometry(part: &ShapePart) -> &[Self];
+    /// The sum-factorisation tables in this precision.
+    fn extruded_tables(factors: &ExtrudedFactors) -> &FactorTables<Self>;
 }
 
 impl CellReal for f64 {
@@ -117,34 +102,12 @@ impl CellReal for f64 {
         &part.geometry
     }
     #[inline(always)]
-    fn factorised_gradients<const D: usize>(
-        part: &ShapePart,
-        x: &[Self],
-        n: usize,
-        modes: &mut [Self],
-        stride: usize,
-        scratch: &mut ExtrudedScratch,
-    ) -> bool {
-        let Some(factors) = &part.extruded else {
-            return false;
-        };
-        factors.gradients::<D>(x, n, modes, stride, scratch);
-        true
+    fn point_geometry(part: &ShapePart) -> &[Self] {
+        &part.point_geometry
     }
     #[inline(always)]
-    fn factorised_transpose<const D: usize>(
-        part: &ShapePart,
-        modes: &[Self],
-        stride: usize,
-        y: &mut [Self],
-        n_padded: usize,
-        scratch: &mut ExtrudedScratch,
-    ) -> bool {
-        let Some(factors) = &part.extruded else {
-            return false;
-        };
-        factors.transpose::<D>(modes, stride, y, n_padded, scratch);
-        true
+    fn extruded_tables(factors: &ExtrudedFactors) -> &FactorTables<Self> {
+        factors.double()
     }
 }
 
@@ -165,11 +128,19 @@ impl CellReal for f32 {
     fn geometry(part: &ShapePart) -> &[[Self; 10]] {
         &part.single_geometry
     }
+    #[inline(always)]
+    fn point_geometry(part: &ShapePart) -> &[Self] {
+        &part.single_point_geometry
+    }
+    #[inline(always)]
+    fn extruded_tables(factors: &ExtrudedFactors) -> &FactorTables<Self> {
+        factors.single()
+    }
 }
 
 /// The matrices of a cell action's two products in one precision, padded to whole lanes.
 #[derive(Debug, Clone)]
-struct LaneFactors<T> {
+pub(crate) struct LaneFactors<T> {
     /// dim m rounded up to the lanes, and n likewise.
     rows_padded: usize,
     n_padded: usize,
@@ -341,16 +312,21 @@ impl ReferenceGradients {
 }
 
 /// The cells of one shape: their factors, runs and geometry.
-struct ShapePart {
+pub(crate) struct ShapePart {
     reference: Arc<ReferenceGradients>,
     /// The part's cells in coloured runs; `geometry` follows their order.
     runs: CellRuns,
-    /// Per cell (affine simplices), or per cell and quadrature point (`reference.per_point`,
-    /// at `cell · m + q`): J⁻¹ (`inv[α][c]` at 3α + c) and |det J| times the cell's
-    /// stiffening.
+    /// Per cell (affine cells; empty with `reference.per_point`): J⁻¹ (`inv[α][c]` at
+    /// 3α + c) and |det J| times the cell's stiffening.
     geometry: Vec<[f64; 10]>,
-    /// The same in f32, for the smoothers' action (empty with `extruded`).
+    /// The same in f32, for the smoothers' action.
     single_geometry: Vec<[f32; 10]>,
+    /// Per cell and quadrature point (`reference.per_point`; else empty), component j of
+    /// the above at point q at `(cell · 10 + j) m + q`: a component of consecutive points
+    /// side by side, for the cell action's lanes.
+    point_geometry: Vec<f64>,
+    /// The same in f32.
+    single_point_geometry: Vec<f32>,
     /// The [`ReducedNodes::slot`] of each of [`CellRuns::run_nodes`].
     slots: Vec<u32>,
     /// Sum factorisation of the action (prisms, hexahedra, quadrilaterals with tensor
@@ -370,8 +346,6 @@ pub(crate) struct MatrixFreeStiffness {
     nodes: ReducedNodes,
     /// Whether the CPU has AVX2 (for [`MatrixFreeStiffness::cell_action`]).
     avx2: bool,
-    /// Whether every part has its f32 data ([`SinglePrecision`] applies in f32).
-    single: bool,
     sums: SharedSum,
 }
 
@@ -440,7 +414,7 @@ impl MatrixFreeStiffness {
             };
             let runs = CellRuns::of_shape(mesh, shape, stiffness.len);
             let m = reference.m;
-            let geometry: Vec<[f64; 10]> = if reference.per_point {
+            let point_geometry: Vec<f64> = if reference.per_point {
                 let rule = &stiffness.stiffness_rule;
                 runs.order
                     .par_iter()
@@ -451,16 +425,24 @@ impl MatrixFreeStiffness {
                             .iter()
                             .map(|&v| mesh.nodes[v as usize])
                             .collect();
-                        (0..m)
-                            .map(|q| {
-                                let k = points.get(q).map_or(q, |&k| k as usize);
-                                let (inv, det) = invert_jacobian(&rule.jacobian(&coords, k), dim);
-                                packed_geometry(inv, det, c, stiffening)
-                            })
-                            .collect::<Result<Vec<_>, _>>()
+                        let mut block = vec![0.0; 10 * m];
+                        for q in 0..m {
+                            let k = points.get(q).map_or(q, |&k| k as usize);
+                            let (inv, det) = invert_jacobian(&rule.jacobian(&coords, k), dim);
+                            let g = packed_geometry(inv, det, c, stiffening)?;
+                            for (j, v) in g.into_iter().enumerate() {
+                                block[j * m + q] = v;
+                            }
+                        }
+                        Ok(block)
                     })
-                    .collect::<Result<Vec<_>, _>>()?
+                    .collect::<Result<Vec<_>, ElasticError>>()?
                     .concat()
+            } else {
+                Vec::new()
+            };
+            let geometry: Vec<[f64; 10]> = if reference.per_point {
+                Vec::new()
             } else {
                 runs.order
                     .par_iter()
@@ -484,25 +466,22 @@ impl MatrixFreeStiffness {
                 .par_iter()
                 .map(|&v| nodes.slot(v as usize))
                 .collect();
-            let single_geometry = if extruded.is_none() {
-                geometry.par_iter().map(|g| g.map(|v| v as f32)).collect()
-            } else {
-                Vec::new()
-            };
+            let single_geometry = geometry.par_iter().map(|g| g.map(|v| v as f32)).collect();
+            let single_point_geometry = point_geometry.par_iter().map(|&v| v as f32).collect();
             parts.push(ShapePart {
                 reference,
                 runs,
                 geometry,
                 single_geometry,
+                point_geometry,
+                single_point_geometry,
                 slots,
                 extruded,
             });
         }
         let (lambda, mu) = material.lame();
-        let single = parts.iter().all(|p| p.extruded.is_none());
         Ok(MatrixFreeStiffness {
             dim,
-            single,
             parts,
             lambda,
             mu,
@@ -695,7 +674,6 @@ impl MatrixFreeStiffness {
         let ReferenceGradients { n, m, .. } = *part.reference;
         let lanes = T::lane_factors(&part.reference);
         let (rows_padded, n_padded) = (lanes.rows_padded, lanes.n_padded);
-        let geometry = T::geometry(part);
         let (lambda, mu) = (T::of(self.lambda), T::of(self.mu));
         let rows = D * m;
         let CellScratch {
@@ -707,53 +685,26 @@ impl MatrixFreeStiffness {
         } = scratch;
         // U_d[α m + k] = Σ_b R_α[k][b] X_d[b], LANES of (α, k) at a time, or sum-factorised.
         modes.resize(D * rows_padded, T::default());
-        if !T::factorised_gradients::<D>(part, x, n, modes, rows_padded, extruded) {
-            lane_products::<T, D, L>(&lanes.transposed, x, n, n, modes, rows_padded);
+        match &part.extruded {
+            Some(factors) => factors.gradients::<T, D>(x, n, modes, rows_padded, extruded),
+            None => lane_products::<T, D, L>(&lanes.transposed, x, n, n, modes, rows_padded),
         }
-        // Per mode: ∇u[d][c] = ∂u_d/∂x_c, the stress, and back to reference directions.
-        for k in 0..m {
-            let g = if PER_POINT {
-                &geometry[c * m + k]
-            } else {
-                &geometry[c]
-            };
-            let inv = |alpha: usize, d: usize| g[3 * alpha + d];
-            let w = g[9];
-            let mut grad = [[T::default(); 3]; 3];
-            for alpha in 0..D {
-                for d in 0..D {
-                    let u = modes[d * rows_padded + alpha * m + k];
-                    for cc in 0..D {
-                        grad[d][cc] += u * inv(alpha, cc);
-                    }
-                }
-            }
-            // Sums written out: `Iterator::sum` of f32 is not inlined into the AVX2 body.
-            let mut trace = grad[0][0];
-            for (d, row) in grad.iter().enumerate().take(D).skip(1) {
-                trace += row[d];
-            }
-            let mut stress = [[T::default(); 3]; 3];
-            for d in 0..D {
-                for cc in 0..D {
-                    stress[d][cc] = w * mu * (grad[d][cc] + grad[cc][d]);
-                }
-                stress[d][d] += w * lambda * trace;
-            }
-            for alpha in 0..D {
-                for d in 0..D {
-                    let mut v = stress[d][0] * inv(alpha, 0);
-                    for cc in 1..D {
-                        v += stress[d][cc] * inv(alpha, cc);
-                    }
-                    modes[d * rows_padded + alpha * m + k] = v;
-                }
-            }
+        // Per mode: ∇u[d][c] = ∂u_d/∂x_c, the stress, and back to reference directions,
+        // POINT_LANES modes at a time, then the rest one by one.
+        let whole = m / POINT_LANES * POINT_LANES;
+        for k0 in (0..whole).step_by(POINT_LANES) {
+            let g = mode_geometry::<T, POINT_LANES, PER_POINT>(part, c, m, k0);
+            stress_modes::<T, D, POINT_LANES>(modes, rows_padded, m, k0, &g, lambda, mu);
+        }
+        for k in whole..m {
+            let g = mode_geometry::<T, 1, PER_POINT>(part, c, m, k);
+            stress_modes::<T, D, 1>(modes, rows_padded, m, k, &g, lambda, mu);
         }
         // Y_d[b] = Σ_(α, k) R_α[k][b] V_d[α m + k], LANES of b at a time.
         y.resize(D * n_padded, T::default());
-        if !T::factorised_transpose::<D>(part, modes, rows_padded, y, n_padded, extruded) {
-            lane_products::<T, D, L>(&lanes.factors, modes, rows_padded, rows, y, n_padded);
+        match &part.extruded {
+            Some(factors) => factors.transpose::<T, D>(modes, rows_padded, y, n_padded, extruded),
+            None => lane_products::<T, D, L>(&lanes.factors, modes, rows_padded, rows, y, n_padded),
         }
     }
 
@@ -809,12 +760,13 @@ impl MatrixFreeStiffness {
                             if part.reference.per_point {
                                 scratch.physical.clear();
                                 for &(_, a, _) in group {
+                                    let cell = &part.point_geometry[c * 10 * m..][..10 * m];
                                     for k in 0..m {
-                                        let g = &part.geometry[c * m + k];
+                                        let g = |j: usize| cell[j * m + k];
                                         let mut v = [0.0; 3];
                                         for (cc, vc) in v.iter_mut().enumerate().take(dim) {
                                             for alpha in 0..dim {
-                                                *vc += g[3 * alpha + cc]
+                                                *vc += g(3 * alpha + cc)
                                                     * part
                                                         .reference
                                                         .factor_at(alpha, k, a as usize);
@@ -840,7 +792,7 @@ impl MatrixFreeStiffness {
                                         let pa = &scratch.physical[ia * m..(ia + 1) * m];
                                         let pb = &scratch.physical[ib * m..(ib + 1) * m];
                                         for (k, (ga, gb)) in pa.iter().zip(pb).enumerate() {
-                                            let w = part.geometry[c * m + k][9];
+                                            let w = part.point_geometry[(c * 10 + 9) * m + k];
                                             for cc in 0..dim {
                                                 for d in 0..dim {
                                                     gm[cc][d] += w * ga[cc] * gb[d];
@@ -948,8 +900,6 @@ impl LinearOperator for MatrixFreeStiffness {
 /// cells): the smoothers' operator, about twice as fast. Its action differs from the f64 one
 /// by the f32 round-off of the cell products (relative ~1e-6), which the smoothing and the
 /// V-cycle's residuals tolerate; CG's own operator and the convergence check stay f64.
-/// Operators with sum-factorised parts (prisms, hexahedra from order
-/// [`FACTORISED_FROM_ORDER`]) are applied in f64.
 pub(crate) struct SinglePrecision<S>(pub S);
 
 impl<S: std::ops::Deref<Target = MatrixFreeStiffness> + Sync> LinearOperator
@@ -957,15 +907,7 @@ impl<S: std::ops::Deref<Target = MatrixFreeStiffness> + Sync> LinearOperator
 {
     fn apply(&self, x: &[f64], y: &mut [f64]) {
         let a = &*self.0;
-        if a.single {
-            a.accumulate::<f32, SINGLE_LANES>(
-                |part, i| a.nodes.expand_slot(part.slots[i], x),
-                x,
-                y,
-            );
-        } else {
-            a.apply(x, y);
-        }
+        a.accumulate::<f32, SINGLE_LANES>(|part, i| a.nodes.expand_slot(part.slots[i], x), x, y);
     }
 }
 
@@ -984,7 +926,90 @@ struct CellScratch<T> {
     x: Vec<T>,
     y: Vec<T>,
     modes: Vec<T>,
-    extruded: ExtrudedScratch,
+    extruded: ExtrudedScratch<T>,
+}
+
+/// J⁻¹ and |det J| (component j at `[j]`) of modes k0..k0 + B of the cell at position c of
+/// `part`: one per point (PER_POINT), or the cell's repeated.
+#[inline(always)]
+fn mode_geometry<T: CellReal, const B: usize, const PER_POINT: bool>(
+    part: &ShapePart,
+    c: usize,
+    m: usize,
+    k0: usize,
+) -> [[T; B]; 10] {
+    let mut g = [[T::default(); B]; 10];
+    if PER_POINT {
+        let cell = &T::point_geometry(part)[c * 10 * m..][..10 * m];
+        for (j, lanes) in g.iter_mut().enumerate() {
+            lanes.copy_from_slice(&cell[j * m + k0..][..B]);
+        }
+    } else {
+        let cell = &T::geometry(part)[c];
+        for (lanes, &v) in g.iter_mut().zip(cell) {
+            *lanes = [v; B];
+        }
+    }
+    g
+}
+
+/// Modes k0..k0 + B of a cell action (module documentation), in place: from the reference
+/// gradients U_d[α m + k] (`modes[d rows_padded + α m + k]`) to ∇u = Σ_α U_α ⊗ J⁻¹_α, the
+/// stress σ = |det J| (λ tr(∇u) I + μ (∇u + ∇uᵀ)), and σ J⁻ᵀ. The same operations on each
+/// lane as on one mode at a time (B = 1), so the same bits; B lanes of one component side
+/// by side let them run in vector registers.
+#[inline(always)]
+fn stress_modes<T: CellReal, const D: usize, const B: usize>(
+    modes: &mut [T],
+    rows_padded: usize,
+    m: usize,
+    k0: usize,
+    g: &[[T; B]; 10],
+    lambda: T,
+    mu: T,
+) {
+    let mut grad = [[[T::default(); B]; 3]; 3];
+    for alpha in 0..D {
+        for (d, grad_d) in grad.iter_mut().enumerate().take(D) {
+            let u = &modes[d * rows_padded + alpha * m + k0..][..B];
+            for (cc, sums) in grad_d.iter_mut().enumerate().take(D) {
+                let inv = &g[3 * alpha + cc];
+                for i in 0..B {
+                    sums[i] += u[i] * inv[i];
+                }
+            }
+        }
+    }
+    let mut trace = grad[0][0];
+    for (d, row) in grad.iter().enumerate().take(D).skip(1) {
+        for i in 0..B {
+            trace[i] += row[d][i];
+        }
+    }
+    let w = &g[9];
+    let mut stress = [[[T::default(); B]; 3]; 3];
+    for d in 0..D {
+        for cc in 0..D {
+            for i in 0..B {
+                stress[d][cc][i] = w[i] * mu * (grad[d][cc][i] + grad[cc][d][i]);
+            }
+        }
+        for i in 0..B {
+            stress[d][d][i] += w[i] * lambda * trace[i];
+        }
+    }
+    for alpha in 0..D {
+        for (d, stress_d) in stress.iter().enumerate().take(D) {
+            let out = &mut modes[d * rows_padded + alpha * m + k0..][..B];
+            for i in 0..B {
+                let mut v = stress_d[0][i] * g[3 * alpha][i];
+                for (cc, s) in stress_d.iter().enumerate().take(D).skip(1) {
+                    v += s[i] * g[3 * alpha + cc][i];
+                }
+                out[i] = v;
+            }
+        }
+    }
 }
 
 /// out_d[j] = Σ_(i < inner) input_d[i] · matrix[i][j] for every component d < D, the
