@@ -13,6 +13,8 @@
 //! the transposed sums in reverse for Rᵀ V. The matrix-free operator uses this for the action
 //! of these shapes ([`crate::matrix_free`]); the factors are checked against the tabulated
 //! basis when built, and a node set that is not a tensor product keeps the dense path.
+//! Each sum runs over [`LANES`] outputs side by side — base nodes t for A and C, base
+//! points q for the gradients — so the modes are ordered line point first (j q_b + q).
 
 use hocurve_nodes::{ReferenceElement, Shape};
 
@@ -23,37 +25,42 @@ use crate::reference_element::ReferenceStiffness;
 const SAME_COORDINATE: f64 = 1e-12;
 /// Largest relative difference between a factored gradient and the tabulated one accepted.
 const FACTOR_CHECK: f64 = 1e-10;
-/// Sums accumulated together in registers (two AVX2 registers per row).
+/// Sums accumulated side by side (one AVX2 register of f32, two of f64).
 const LANES: usize = 8;
 
 /// The factors of one shape (see the module documentation).
 #[derive(Debug, Clone)]
 pub(crate) struct ExtrudedFactors {
-    /// Base nodes n_b, line nodes n_l, base points q_b, line points q_l.
+    /// Base nodes n_b, line nodes n_l, base points q_b, line points q_l; n_b and q_b
+    /// rounded up to whole lanes.
     nb: usize,
     nl: usize,
     qb: usize,
     ql: usize,
+    nb_padded: usize,
+    qb_padded: usize,
     /// Local node of (t, l) at `t n_l + l`.
     node: Vec<u32>,
-    /// Rule point of (q, j) at `q q_l + j`.
+    /// Rule point of (q, j) at `j q_b + q`: the order of the modes.
     point: Vec<u32>,
     /// The tables in f64 (CG's operator) and in f32 (the smoothers').
     double: FactorTables<f64>,
     single: FactorTables<f32>,
 }
 
-/// The factors' numbers in one precision.
+/// The factors' numbers in one precision; the padding entries are zero.
 #[derive(Debug, Clone)]
 pub(crate) struct FactorTables<T> {
-    /// The rule's weight of each point, in the order of `point`.
+    /// The rule's weight of point (q, j) at `j q_b' + q` (q_b' = q_b padded).
     weight: Vec<T>,
-    /// Per (q, t): ∂_α φ_t(ξ̄_q) for the base directions α, then φ_t(ξ̄_q), at
-    /// `(q n_b + t) dim + α`.
-    base: Vec<T>,
+    /// ∂_α φ_t(ξ̄_q) for the base directions α, then (α = dim − 1) φ_t(ξ̄_q), at
+    /// `(α n_b + t) q_b' + q`: consecutive points side by side.
+    by_point: Vec<T>,
+    /// The same at `(α q_b + q) n_b' + t`: consecutive nodes side by side.
+    by_node: Vec<T>,
     /// ψ_l(ζ_j) and ψ′_l(ζ_j) at `l q_l + j`.
-    line_value_t: Vec<T>,
-    line_deriv_t: Vec<T>,
+    line_value: Vec<T>,
+    line_deriv: Vec<T>,
 }
 
 impl FactorTables<f64> {
@@ -61,9 +68,10 @@ impl FactorTables<f64> {
         let to = |v: &[f64]| v.iter().map(|&x| T::of(x)).collect();
         FactorTables {
             weight: to(&self.weight),
-            base: to(&self.base),
-            line_value_t: to(&self.line_value_t),
-            line_deriv_t: to(&self.line_deriv_t),
+            by_point: to(&self.by_point),
+            by_node: to(&self.by_node),
+            line_value: to(&self.line_value),
+            line_deriv: to(&self.line_deriv),
         }
     }
 }
@@ -147,10 +155,12 @@ impl ExtrudedFactors {
             line_points.len(),
         );
         let n = element.len();
+        let (nb_padded, qb_padded) = (nb.div_ceil(LANES) * LANES, qb.div_ceil(LANES) * LANES);
         let (mut values, mut grads) = (vec![0.0; n], vec![[0.0; 3]; n]);
         // φ_t and its gradient: the basis of nodes (t, 0) on the line of node 0, where
         // ψ_0 = 1.
-        let mut base = vec![0.0; qb * nb * dim];
+        let mut by_point = vec![0.0; dim * nb * qb_padded];
+        let mut by_node = vec![0.0; dim * qb * nb_padded];
         for (q, b) in base_points.iter().enumerate() {
             let mut xi = *b;
             xi[axis] = line_nodes[0];
@@ -158,14 +168,20 @@ impl ExtrudedFactors {
             element.basis().eval_grad(xi, &mut grads);
             for t in 0..nb {
                 let at = node[t * nl];
-                let entry = &mut base[(q * nb + t) * dim..][..dim];
-                entry[..axis].copy_from_slice(&grads[at][..axis]);
-                entry[axis] = values[at];
+                for alpha in 0..dim {
+                    let v = if alpha < axis {
+                        grads[at][alpha]
+                    } else {
+                        values[at]
+                    };
+                    by_point[(alpha * nb + t) * qb_padded + q] = v;
+                    by_node[(alpha * qb + q) * nb_padded + t] = v;
+                }
             }
         }
         // ψ_l and ψ′_l: the basis of nodes (0, l) at base node 0, where φ_0 = 1.
-        let mut line_value_t = vec![0.0; ql * nl];
-        let mut line_deriv_t = vec![0.0; ql * nl];
+        let mut line_value = vec![0.0; ql * nl];
+        let mut line_deriv = vec![0.0; ql * nl];
         for (j, &z) in line_points.iter().enumerate() {
             let mut xi = base_nodes[0];
             xi[axis] = z;
@@ -173,23 +189,37 @@ impl ExtrudedFactors {
             element.basis().eval_grad(xi, &mut grads);
             for l in 0..nl {
                 let at = node[l];
-                line_value_t[l * ql + j] = values[at];
-                line_deriv_t[l * ql + j] = grads[at][axis];
+                line_value[l * ql + j] = values[at];
+                line_deriv[l * ql + j] = grads[at][axis];
+            }
+        }
+        // `split` numbers the rule's points (q, j) at q q_l + j; the modes go j-major.
+        let point = &point;
+        let order: Vec<usize> = (0..ql)
+            .flat_map(|j| (0..qb).map(move |q| point[q * ql + j]))
+            .collect();
+        let mut weight = vec![0.0; ql * qb_padded];
+        for j in 0..ql {
+            for q in 0..qb {
+                weight[j * qb_padded + q] = rule.weights()[order[j * qb + q]];
             }
         }
         let double = FactorTables {
-            weight: point.iter().map(|&k| rule.weights()[k]).collect(),
-            base,
-            line_value_t,
-            line_deriv_t,
+            weight,
+            by_point,
+            by_node,
+            line_value,
+            line_deriv,
         };
         let factors = ExtrudedFactors {
             nb,
             nl,
             qb,
             ql,
+            nb_padded,
+            qb_padded,
             node: node.iter().map(|&b| b as u32).collect(),
-            point: point.iter().map(|&k| k as u32).collect(),
+            point: order.iter().map(|&k| k as u32).collect(),
             single: double.narrowed(),
             double,
         };
@@ -207,22 +237,24 @@ impl ExtrudedFactors {
             .fold(0.0_f64, |m, v| m.max(v.abs()));
         for q in 0..self.qb {
             for j in 0..self.ql {
-                let k = self.point[q * self.ql + j] as usize;
+                let k = self.point[j * self.qb + q] as usize;
                 let g = rule.gradients(k);
                 for t in 0..self.nb {
                     for l in 0..self.nl {
                         let b = self.node[t * self.nl + l] as usize;
-                        let base = &self.double.base[(q * self.nb + t) * dim..][..dim];
+                        let base = |alpha: usize| {
+                            self.double.by_point[(alpha * self.nb + t) * self.qb_padded + q]
+                        };
                         let (line, slope) = (
-                            self.double.line_value_t[l * self.ql + j],
-                            self.double.line_deriv_t[l * self.ql + j],
+                            self.double.line_value[l * self.ql + j],
+                            self.double.line_deriv[l * self.ql + j],
                         );
                         // ∂_α Φ = ∂_α φ ψ in the base, φ ψ′ along the line.
                         let factored = |alpha: usize| {
                             if alpha < axis {
-                                base[alpha] * line
+                                base(alpha) * line
                             } else {
-                                base[axis] * slope
+                                base(axis) * slope
                             }
                         };
                         if (0..dim).any(|a| (factored(a) - g[b][a]).abs() > FACTOR_CHECK * largest)
@@ -236,14 +268,14 @@ impl ExtrudedFactors {
         true
     }
 
-    /// The rule's points in the factors' order: entry q q_l + j is the rule index of
+    /// The rule's points in the factors' order: entry j q_b + q is the rule index of
     /// point (q, j). The modes of [`Self::gradients`] and [`Self::transpose`] are in this
     /// order.
     pub(crate) fn points(&self) -> &[u32] {
         &self.point
     }
 
-    /// The weighted gradient modes of one cell: `modes[d stride + α m + q q_l + j]` =
+    /// The weighted gradient modes of one cell: `modes[d stride + α m + j q_b + q]` =
     /// w ∂u_d/∂ξ_α at point (q, j), from `x[d n + b]` (m the rule's size, n the nodes).
     #[inline(always)]
     pub(crate) fn gradients<T: CellReal, const D: usize>(
@@ -255,73 +287,67 @@ impl ExtrudedFactors {
         scratch: &mut ExtrudedScratch<T>,
     ) {
         let (nb, nl, qb, ql) = (self.nb, self.nl, self.qb, self.ql);
-        let tables = T::extruded_tables(self);
+        let (nbp, qbp) = (self.nb_padded, self.qb_padded);
         let m = qb * ql;
-        // Rows of (d, j) pairs, padded to whole lanes.
-        let row = (D * ql).div_ceil(LANES) * LANES;
-        let ExtrudedScratch {
-            a,
-            a_prime,
-            v: rows,
-        } = scratch;
-        zeroed(rows, D * row);
-        // A[t][d q_l + j] = Σ_l ψ_l(ζ_j) X_d(t, l), A′ with ψ′.
-        zeroed(a, nb * row);
-        zeroed(a_prime, nb * row);
+        let tables = T::extruded_tables(self);
+        let ExtrudedScratch { a, a_prime, v: xt } = scratch;
+        // Xᵀ[l][d][t] = X_d(t, l), zero beyond n_b.
+        zeroed(xt, nl * D * nbp);
         for t in 0..nb {
-            let (at, at_prime) = (&mut a[t * row..][..row], &mut a_prime[t * row..][..row]);
             for l in 0..nl {
                 let b = self.node[t * nl + l] as usize;
-                let (values, derivs) = (
-                    &tables.line_value_t[l * ql..][..ql],
-                    &tables.line_deriv_t[l * ql..][..ql],
-                );
                 for d in 0..D {
-                    let v = x[d * n + b];
-                    let (out, out_prime) = (&mut at[d * ql..][..ql], &mut at_prime[d * ql..][..ql]);
-                    for ((o, op), (f, g)) in out
-                        .iter_mut()
-                        .zip(out_prime.iter_mut())
-                        .zip(values.iter().zip(derivs))
-                    {
-                        *o += *f * v;
-                        *op += *g * v;
-                    }
+                    xt[(l * D + d) * nbp + t] = x[d * n + b];
                 }
             }
         }
-        // Per base point q and lane block: Σ_t ∂_α φ_t(ξ̄_q) A[t] (α in the base) and
-        // Σ_t φ_t(ξ̄_q) A′[t], accumulated in registers.
-        for q in 0..qb {
-            let weights = &tables.weight[q * ql..][..ql];
-            let base_q = &tables.base[q * nb * D..][..nb * D];
-            for k0 in (0..row).step_by(LANES) {
-                let mut acc = [[T::default(); LANES]; D];
-                for (f, (at, at_prime)) in base_q
-                    .chunks_exact(D)
-                    .zip(a.chunks_exact(row).zip(a_prime.chunks_exact(row)))
-                {
-                    let at = &at[k0..k0 + LANES];
-                    let at_prime = &at_prime[k0..k0 + LANES];
-                    for alpha in 0..D - 1 {
-                        for k in 0..LANES {
-                            acc[alpha][k] += f[alpha] * at[k];
+        // A[j][d][t] = Σ_l ψ_l(ζ_j) Xᵀ[l][d][t], A′ with ψ′: LANES nodes t at a time.
+        zeroed(a, ql * D * nbp);
+        zeroed(a_prime, ql * D * nbp);
+        for j in 0..ql {
+            for d in 0..D {
+                for t0 in (0..nbp).step_by(LANES) {
+                    let (mut s, mut s_prime) = ([T::default(); LANES], [T::default(); LANES]);
+                    for l in 0..nl {
+                        let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
+                        let xs = &xt[(l * D + d) * nbp + t0..][..LANES];
+                        for i in 0..LANES {
+                            s[i] += f * xs[i];
+                            s_prime[i] += g * xs[i];
                         }
                     }
-                    for k in 0..LANES {
-                        acc[D - 1][k] += f[D - 1] * at_prime[k];
-                    }
-                }
-                for (alpha, sums) in acc.iter().enumerate() {
-                    rows[alpha * row + k0..][..LANES].copy_from_slice(sums);
+                    a[(j * D + d) * nbp + t0..][..LANES].copy_from_slice(&s);
+                    a_prime[(j * D + d) * nbp + t0..][..LANES].copy_from_slice(&s_prime);
                 }
             }
+        }
+        // U_d[α][(q, j)] = w Σ_t ∂_α φ_t(ξ̄_q) A[j][d][t] (α in the base), w Σ_t φ_t(ξ̄_q)
+        // A′[j][d][t] along the line: LANES points q at a time.
+        for j in 0..ql {
             for d in 0..D {
-                for alpha in 0..D {
-                    let out = &mut modes[d * stride + alpha * m + q * ql..][..ql];
-                    let from = &rows[alpha * row + d * ql..][..ql];
-                    for ((o, w), v) in out.iter_mut().zip(weights).zip(from) {
-                        *o = *w * *v;
+                let at = &a[(j * D + d) * nbp..][..nb];
+                let at_prime = &a_prime[(j * D + d) * nbp..][..nb];
+                for q0 in (0..qbp).step_by(LANES) {
+                    let mut acc = [[T::default(); LANES]; D];
+                    for t in 0..nb {
+                        for (alpha, sums) in acc.iter_mut().enumerate().take(D - 1) {
+                            let f = &tables.by_point[(alpha * nb + t) * qbp + q0..][..LANES];
+                            for i in 0..LANES {
+                                sums[i] += at[t] * f[i];
+                            }
+                        }
+                        let f = &tables.by_point[((D - 1) * nb + t) * qbp + q0..][..LANES];
+                        for i in 0..LANES {
+                            acc[D - 1][i] += at_prime[t] * f[i];
+                        }
+                    }
+                    let w = &tables.weight[j * qbp + q0..][..LANES];
+                    let count = LANES.min(qb - q0);
+                    for (alpha, sums) in acc.iter().enumerate() {
+                        let out = &mut modes[d * stride + alpha * m + j * qb + q0..][..count];
+                        for i in 0..count {
+                            out[i] = w[i] * sums[i];
+                        }
                     }
                 }
             }
@@ -340,60 +366,65 @@ impl ExtrudedFactors {
         scratch: &mut ExtrudedScratch<T>,
     ) {
         let (nb, nl, qb, ql) = (self.nb, self.nl, self.qb, self.ql);
-        let tables = T::extruded_tables(self);
+        let nbp = self.nb_padded;
         let m = qb * ql;
-        let row = (D * ql).div_ceil(LANES) * LANES;
-        let ExtrudedScratch { a, a_prime, v } = scratch;
-        // V[q][α][d q_l + j] = modes of (d, α, (q, j)), rows padded.
-        zeroed(v, qb * D * row);
-        for d in 0..D {
-            for alpha in 0..D {
-                for q in 0..qb {
-                    let from = &modes[d * stride + alpha * m + q * ql..][..ql];
-                    v[(q * D + alpha) * row + d * ql..][..ql].copy_from_slice(from);
-                }
-            }
-        }
-        // C[t][d q_l + j] = Σ_q Σ_α ∂_α φ_t(ξ̄_q) V[q][α], C′ = Σ_q φ_t(ξ̄_q) V[q][last].
-        zeroed(a, nb * row);
-        zeroed(a_prime, nb * row);
-        for t in 0..nb {
-            for k0 in (0..row).step_by(LANES) {
-                let (mut acc, mut acc_prime) = ([T::default(); LANES], [T::default(); LANES]);
-                for q in 0..qb {
-                    let f = &tables.base[(q * nb + t) * D..][..D];
-                    let vq = &v[q * D * row..][..D * row];
-                    for alpha in 0..D - 1 {
-                        let va = &vq[alpha * row + k0..][..LANES];
-                        for k in 0..LANES {
-                            acc[k] += f[alpha] * va[k];
+        let tables = T::extruded_tables(self);
+        let ExtrudedScratch {
+            a: c,
+            a_prime: c_prime,
+            v: yt,
+        } = scratch;
+        // C[j][d][t] = Σ_q Σ_α ∂_α φ_t(ξ̄_q) V_d[α][(q, j)] (α in the base), C′[j][d][t] =
+        // Σ_q φ_t(ξ̄_q) V_d[last][(q, j)]: LANES nodes t at a time.
+        zeroed(c, ql * D * nbp);
+        zeroed(c_prime, ql * D * nbp);
+        for j in 0..ql {
+            for d in 0..D {
+                for t0 in (0..nbp).step_by(LANES) {
+                    let (mut s, mut s_prime) = ([T::default(); LANES], [T::default(); LANES]);
+                    for q in 0..qb {
+                        for alpha in 0..D - 1 {
+                            let v = modes[d * stride + alpha * m + j * qb + q];
+                            let f = &tables.by_node[(alpha * qb + q) * nbp + t0..][..LANES];
+                            for i in 0..LANES {
+                                s[i] += v * f[i];
+                            }
+                        }
+                        let v = modes[d * stride + (D - 1) * m + j * qb + q];
+                        let f = &tables.by_node[((D - 1) * qb + q) * nbp + t0..][..LANES];
+                        for i in 0..LANES {
+                            s_prime[i] += v * f[i];
                         }
                     }
-                    let va = &vq[(D - 1) * row + k0..][..LANES];
-                    for k in 0..LANES {
-                        acc_prime[k] += f[D - 1] * va[k];
-                    }
+                    c[(j * D + d) * nbp + t0..][..LANES].copy_from_slice(&s);
+                    c_prime[(j * D + d) * nbp + t0..][..LANES].copy_from_slice(&s_prime);
                 }
-                a[t * row + k0..][..LANES].copy_from_slice(&acc);
-                a_prime[t * row + k0..][..LANES].copy_from_slice(&acc_prime);
             }
         }
-        // Y_d(t, l) = Σ_j ψ_l(ζ_j) C[t][d, j] + ψ′_l(ζ_j) C′[t][d, j].
+        // Yᵀ[l][d][t] = Σ_j ψ_l(ζ_j) C[j][d][t] + ψ′_l(ζ_j) C′[j][d][t].
+        zeroed(yt, nl * D * nbp);
+        for l in 0..nl {
+            for d in 0..D {
+                for t0 in (0..nbp).step_by(LANES) {
+                    let mut s = [T::default(); LANES];
+                    for j in 0..ql {
+                        let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
+                        let cs = &c[(j * D + d) * nbp + t0..][..LANES];
+                        let cps = &c_prime[(j * D + d) * nbp + t0..][..LANES];
+                        for i in 0..LANES {
+                            s[i] += f * cs[i] + g * cps[i];
+                        }
+                    }
+                    yt[(l * D + d) * nbp + t0..][..LANES].copy_from_slice(&s);
+                }
+            }
+        }
+        // Y_d(t, l) into the cell's node order.
         for t in 0..nb {
-            let (ct, ct_prime) = (&a[t * row..][..row], &a_prime[t * row..][..row]);
             for l in 0..nl {
                 let b = self.node[t * nl + l] as usize;
-                let (values, derivs) = (
-                    &tables.line_value_t[l * ql..][..ql],
-                    &tables.line_deriv_t[l * ql..][..ql],
-                );
                 for d in 0..D {
-                    let (c, c_prime) = (&ct[d * ql..][..ql], &ct_prime[d * ql..][..ql]);
-                    let mut s = T::default();
-                    for ((f, g), (u, w)) in values.iter().zip(derivs).zip(c.iter().zip(c_prime)) {
-                        s += *f * *u + *g * *w;
-                    }
-                    y[d * n_padded + b] = s;
+                    y[d * n_padded + b] = yt[(l * D + d) * nbp + t];
                 }
             }
         }

@@ -46,10 +46,10 @@ const RANK_TOLERANCE: f64 = 1e-10;
 /// (`fixtures/cad/cylinder_layers`, `--elastic-layers`, 2 cores): CG iterations 11.1 s
 /// against 15.7 s at p = 4, 20.9 s against 40.8 s at p = 5; on 31 k prisms at p = 3
 /// (issue 21's cylinder) 28.6 s against 25.6 s: below p = 4 the dense products, fewer flops
-/// saved and register-blocked, are as fast. Both in f32 in the smoothers (session 22; the
-/// layered sphere shell of `bench --layers`, 12 k curved prisms, ns per unknown and CG
-/// iteration): p = 3 215–218 factorised against 158–162 dense, p = 2 76 against 49; at
-/// p = 4 385 against 363, within the machine's noise.
+/// saved and register-blocked, are as fast. Both in f32 in the smoothers and the factored
+/// sums lane-parallel over nodes and points (session 22; the layered sphere shell of
+/// `bench --layers`, 12 k curved prisms, ns per unknown and CG iteration): p = 2 64
+/// factorised against 44 dense, p = 3 200 against 168–174, p = 4 331–366 against 378–386.
 const FACTORISED_FROM_ORDER: usize = 4;
 /// Quadrature points (modes) whose stresses are computed side by side in the cell action.
 const POINT_LANES: usize = 8;
