@@ -9,7 +9,8 @@
 //! sphere layers at surface size 0.2). Printed per run: time, peak memory, unknowns and CG iterations, the
 //! cells moved as boundary-layer columns, the certified lower bound of Ĩ and the Ĩ
 //! sampled at the degree-2p points, or why the run failed. Gmsh's projection is not timed
-//! here: it needs the CAD model in Gmsh, which the fixtures do not carry.
+//! here: it needs the CAD model in Gmsh, which the fixtures do not carry. Then prisms
+//! against tetrahedra per unknown on the same layered shell ([`per_unknown`]).
 
 use std::path::Path;
 use std::process::Command;
@@ -169,5 +170,65 @@ pub fn layers() -> Result<()> {
     }
     println!("stretch = largest longest/shortest edge of a cell; columns = cells moved with the wall as boundary-layer columns;");
     println!("s = whole process (read to write); MB = peak resident memory; Ĩ bound = certified (Bézier) lower bound, Ĩ 2p = sampled at the degree-2p points.");
+    per_unknown(&python, &hocurve, &out)
+}
+
+/// Prisms against tetrahedra per unknown (issue 21, point 4): the boundary layer of
+/// `sphere_layers` alone (`make_cad_fixtures.sphere_shell`, size 0.15: 12 k prisms on
+/// curved layers, not affine), and the same extrusion split into 36 k tets — the same
+/// nodes and unknowns at every order. Both solved whole by elasticity (`--elastic-layers
+/// --solve-region whole`); printed per order: the CG iterations' time per iteration and
+/// unknown, and the whole run.
+fn per_unknown(python: &Path, hocurve: &Path, out: &Path) -> Result<()> {
+    run(
+        "Gmsh makes the layered sphere shell as prisms and as tets (sphere_shell, size 0.15)",
+        Command::new(python).arg("-c").arg(format!(
+            "import sys; sys.path.insert(0, {fixtures:?}); import make_cad_fixtures as m; \
+             m.OUT = {out:?}; m.sphere_shell('shell_prisms', 0.15, True); \
+             m.sphere_shell('shell_tets', 0.15, False)",
+            fixtures = root().join("fixtures").display().to_string(),
+            out = out.display().to_string(),
+        )),
+    )?;
+    println!();
+    println!("prisms against tets per unknown: the layered sphere shell, whole mesh solved");
+    println!(
+        "{:>2} {:>8} {:>11} {:>11} {:>6} {:>9} {:>9}",
+        "p", "dofs", "prism ns", "tet ns", "ratio", "prism s", "tet s"
+    );
+    for p in [2, 3, 4] {
+        let mut row = Vec::new();
+        for name in ["shell_prisms", "shell_tets"] {
+            let report = out.join(format!("{name}_p{p}.json"));
+            let _ = std::fs::remove_file(&report);
+            eprintln!("==> {name}, p = {p}");
+            let status = Command::new(hocurve)
+                .arg("curve")
+                .arg(out.join(format!("{name}.msh")))
+                .args(["-p", &p.to_string(), "--geometry"])
+                .arg(out.join(format!("{name}.json")))
+                .args(["--elastic-layers", "--solve-region", "whole", "-o"])
+                .arg(out.join(format!("{name}_p{p}.msh")))
+                .arg("--report")
+                .arg(&report)
+                .stdout(std::process::Stdio::null())
+                .status()
+                .context("running hocurve")?;
+            let json: Value = serde_json::from_str(&std::fs::read_to_string(&report)?)?;
+            anyhow::ensure!(status.success(), "{name} at p = {p} failed");
+            let f = |v: &Value| v.as_f64().unwrap_or(f64::NAN);
+            let (dofs, its) = (f(&json["dofs"]), f(&json["iterations"]));
+            let per = f(&json["timings"]["solve_iterations"]) / its / dofs;
+            row.push((dofs, per, f(&json["timings"]["total"])));
+        }
+        let ((dofs, prism, prism_s), (_, tet, tet_s)) = (row[0], row[1]);
+        println!(
+            "{p:>2} {dofs:>8} {:>11.1} {:>11.1} {:>6.2} {prism_s:>9.2} {tet_s:>9.2}",
+            prism * 1e9,
+            tet * 1e9,
+            prism / tet
+        );
+    }
+    println!("ns = nanoseconds per unknown and CG iteration (V-cycle and CG operator); s = whole process.");
     Ok(())
 }
