@@ -82,7 +82,9 @@ pub struct BezierOptions {
     pub max_depth: usize,
     /// When every element is valid, narrow the certified bounds of the elements that hold
     /// the mesh's bound down ([`JacobianBezier::refine_bounds`]) until each certifies
-    /// Ĩ ≥ this fraction of the smallest Ĩ sampled on any element (0: no narrowing).
+    /// Ĩ ≥ this fraction of the smallest Ĩ sampled on any element — or, where an element's
+    /// own values prove its Ĩ lower than that, this fraction of its own upper bound
+    /// (0: no narrowing).
     pub tightness: f64,
     /// Regions one element may be split into while narrowing (regions of more than 1 000
     /// coefficients count in proportion to their size).
@@ -1000,8 +1002,8 @@ pub(crate) fn check_validity_where(
 
 /// The checks with the certified bounds of the elements below the target of
 /// [`BezierOptions::tightness`] narrowed, when every element is valid: the mesh's certified
-/// min Ĩ then sits within that fraction of its sampled min, or as close as the region budget
-/// allows.
+/// min Ĩ then sits within that fraction of the smallest Ĩ known (sampled, or proven by an
+/// element's values), or as close as the region budget allows.
 fn narrow_bounds(
     mesh: &HighOrderMesh,
     checkers: &BTreeMap<Shape, JacobianBezier>,
