@@ -310,27 +310,45 @@ fn hexahedron_coefficients_match_det_j_by_1d_lagrange_products_within_their_erro
     }
 }
 
+/// x = Aξ + (B/3)(ξ − 0.3)³ (see below): Ĩ = A / (A + 0.49 B) exactly.
+const CUBIC_A: f64 = 0.1;
+const CUBIC_B: f64 = 4.0;
+const CUBIC_EXACT: f64 = CUBIC_A / (CUBIC_A + 0.49 * CUBIC_B);
+
+/// One element of `kind` at p = 3 under that map: its checker, node coordinates, Bézier
+/// check and workspace.
+fn cubic_element(
+    kind: Shape,
+) -> (
+    JacobianBezier,
+    Vec<[f64; 3]>,
+    ValidityCheck,
+    BezierWorkspace,
+) {
+    let (a, b) = (CUBIC_A, CUBIC_B);
+    let mesh = single_element(kind, 3, |x| {
+        [a * x[0] + b / 3.0 * (x[0] - 0.3).powi(3), x[1], x[2]]
+    });
+    let checker = JacobianBezier::new(kind, 3, mesh.family).unwrap();
+    let coords: Vec<[f64; 3]> = mesh.cells[0]
+        .nodes
+        .iter()
+        .map(|&n| mesh.nodes[n as usize])
+        .collect();
+    let mut ws = BezierWorkspace::default();
+    let check = checker.check_with(&coords, &BezierOptions::default(), &mut ws);
+    (checker, coords, check, ws)
+}
+
 #[test]
 fn narrowed_bounds_close_in_on_the_true_scaled_jacobian() {
     // x = Aξ + (B/3)(ξ − 0.3)³: det J = A + B(ξ − 0.3)², smallest (A) inside at ξ = 0.3 (no
     // lattice or subdivision point), largest at ξ = 1: Ĩ = A / (A + 0.49 B) exactly. The
     // check's bound is far below it (its coefficients dip below A); refinement must reach
     // 95 % of it without passing it.
-    let (a, b) = (0.1, 4.0);
-    let exact = a / (a + 0.49 * b);
+    let (a, b, exact) = (CUBIC_A, CUBIC_B, CUBIC_EXACT);
     for kind in ALL_TYPES {
-        let p = 3;
-        let mesh = single_element(kind, p, |x| {
-            [a * x[0] + b / 3.0 * (x[0] - 0.3).powi(3), x[1], x[2]]
-        });
-        let checker = JacobianBezier::new(kind, p, mesh.family).unwrap();
-        let coords: Vec<[f64; 3]> = mesh.cells[0]
-            .nodes
-            .iter()
-            .map(|&n| mesh.nodes[n as usize])
-            .collect();
-        let mut ws = BezierWorkspace::default();
-        let check = checker.check_with(&coords, &BezierOptions::default(), &mut ws);
+        let (checker, coords, check, mut ws) = cubic_element(kind);
         assert_eq!(check.validity, Validity::Valid, "{kind}");
         assert!(
             check.scaled_jacobian_lower_bound < 0.9 * exact,
@@ -369,20 +387,9 @@ fn narrowed_bounds_close_in_on_the_true_scaled_jacobian() {
 /// of spending the whole budget (every cell of a layered sphere shell at p = 3 did: 57 s).
 #[test]
 fn narrowing_stops_at_the_elements_own_bound_when_the_target_is_out_of_reach() {
-    let (a, b) = (0.1, 4.0);
-    let exact = a / (a + 0.49 * b);
+    let exact = CUBIC_EXACT;
     for kind in ALL_TYPES {
-        let mesh = single_element(kind, 3, |x| {
-            [a * x[0] + b / 3.0 * (x[0] - 0.3).powi(3), x[1], x[2]]
-        });
-        let checker = JacobianBezier::new(kind, 3, mesh.family).unwrap();
-        let coords: Vec<[f64; 3]> = mesh.cells[0]
-            .nodes
-            .iter()
-            .map(|&n| mesh.nodes[n as usize])
-            .collect();
-        let mut ws = BezierWorkspace::default();
-        let check = checker.check_with(&coords, &BezierOptions::default(), &mut ws);
+        let (checker, coords, check, mut ws) = cubic_element(kind);
         let goal = NarrowingGoal {
             target: 0.99,
             relative: 0.95,
