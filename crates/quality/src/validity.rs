@@ -714,8 +714,9 @@ impl JacobianBezier {
     /// the interval is relatively further from the values found — until the certified
     /// lower bound of Ĩ reaches `goal.target`; or, once the element's own upper bound (the
     /// check's, lowered by every value of det J met) shows the target out of reach,
-    /// `goal.relative` times that upper bound; or `goal.max_regions` regions are in use. Returns `check` with the narrower bounds (never wider ones); other
-    /// verdicts are returned as they are.
+    /// `goal.relative` times that upper bound; or `goal.max_regions` regions are in use.
+    /// Returns `check` with the narrower bounds (never wider ones); other verdicts are
+    /// returned as they are.
     pub fn refine_bounds(
         &self,
         coords: &[[f64; 3]],
@@ -960,7 +961,7 @@ pub(crate) fn check_validity_where(
         .map(|&s| Ok((s, JacobianBezier::new(s, mesh.order, mesh.family)?)))
         .collect::<Result<_, QualityError>>()?;
     // check_cells put every cell's shape in `checkers`.
-    let checks: Vec<ValidityCheck> = mesh
+    let mut checks: Vec<ValidityCheck> = mesh
         .cells
         .par_iter()
         .enumerate()
@@ -988,7 +989,6 @@ pub(crate) fn check_validity_where(
             check
         })
         .collect();
-    let mut checks = checks;
     if let Some(sampled) = sampled {
         for (check, &s) in checks.iter_mut().zip(sampled) {
             // Only a valid cell's sampled ratio bounds its Ĩ from above (both extremes > 0).
