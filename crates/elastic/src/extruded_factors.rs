@@ -13,8 +13,9 @@
 //! the transposed sums in reverse for Rᵀ V. The matrix-free operator uses this for the action
 //! of these shapes ([`crate::matrix_free`]); the factors are checked against the tabulated
 //! basis when built, and a node set that is not a tensor product keeps the dense path.
-//! Each sum runs over [`LANES`] outputs side by side — base nodes t for A and C, base
-//! points q for the gradients — so the modes are ordered line point first (j q_b + q).
+//! Each sum runs over B outputs side by side (B dividing [`LANES`]: one AVX2 register) —
+//! base nodes t for A and C, base points q for the gradients — for every component at once,
+//! so the modes are ordered line point first (j q_b + q).
 
 use hocurve_nodes::{ReferenceElement, Shape};
 
@@ -25,7 +26,8 @@ use crate::reference_element::ReferenceStiffness;
 const SAME_COORDINATE: f64 = 1e-12;
 /// Largest relative difference between a factored gradient and the tabulated one accepted.
 const FACTOR_CHECK: f64 = 1e-10;
-/// Sums accumulated side by side (one AVX2 register of f32, two of f64).
+/// The tables' rows are padded to a multiple of this (one AVX2 register of f32, two of
+/// f64).
 const LANES: usize = 8;
 
 /// The factors of one shape (see the module documentation).
@@ -278,7 +280,7 @@ impl ExtrudedFactors {
     /// The weighted gradient modes of one cell: `modes[d stride + α m + j q_b + q]` =
     /// w ∂u_d/∂ξ_α at point (q, j), from `x[d n + b]` (m the rule's size, n the nodes).
     #[inline(always)]
-    pub(crate) fn gradients<T: CellReal, const D: usize>(
+    pub(crate) fn gradients<T: CellReal, const D: usize, const B: usize>(
         &self,
         x: &[T],
         n: usize,
@@ -291,7 +293,7 @@ impl ExtrudedFactors {
         let m = qb * ql;
         let tables = T::extruded_tables(self);
         let ExtrudedScratch { a, a_prime, v: xt } = scratch;
-        // Xᵀ[l][d][t] = X_d(t, l), zero beyond n_b.
+        // Xᵀ[l][d][t] = X_d(t, l), zero beyond n_b (the only entries read but not written).
         zeroed(xt, nl * D * nbp);
         for t in 0..nb {
             for l in 0..nl {
@@ -301,52 +303,68 @@ impl ExtrudedFactors {
                 }
             }
         }
-        // A[j][d][t] = Σ_l ψ_l(ζ_j) Xᵀ[l][d][t], A′ with ψ′: LANES nodes t at a time.
-        zeroed(a, ql * D * nbp);
-        zeroed(a_prime, ql * D * nbp);
+        // A[j][d][t] = Σ_l ψ_l(ζ_j) Xᵀ[l][d][t], A′ with ψ′: B nodes t of every
+        // component at a time (2 D independent sums).
+        resized(a, ql * D * nbp);
+        resized(a_prime, ql * D * nbp);
         for j in 0..ql {
-            for d in 0..D {
-                for t0 in (0..nbp).step_by(LANES) {
-                    let (mut s, mut s_prime) = ([T::default(); LANES], [T::default(); LANES]);
-                    for l in 0..nl {
-                        let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
-                        let xs = &xt[(l * D + d) * nbp + t0..][..LANES];
-                        for i in 0..LANES {
-                            s[i] += f * xs[i];
-                            s_prime[i] += g * xs[i];
+            for t0 in (0..nb).step_by(B) {
+                let mut s = [[T::default(); B]; D];
+                let mut s_prime = [[T::default(); B]; D];
+                for l in 0..nl {
+                    let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
+                    for d in 0..D {
+                        let xs = &xt[(l * D + d) * nbp + t0..][..B];
+                        for i in 0..B {
+                            s[d][i] += f * xs[i];
+                            s_prime[d][i] += g * xs[i];
                         }
                     }
-                    a[(j * D + d) * nbp + t0..][..LANES].copy_from_slice(&s);
-                    a_prime[(j * D + d) * nbp + t0..][..LANES].copy_from_slice(&s_prime);
+                }
+                for d in 0..D {
+                    a[(j * D + d) * nbp + t0..][..B].copy_from_slice(&s[d]);
+                    a_prime[(j * D + d) * nbp + t0..][..B].copy_from_slice(&s_prime[d]);
                 }
             }
         }
         // U_d[α][(q, j)] = w Σ_t ∂_α φ_t(ξ̄_q) A[j][d][t] (α in the base), w Σ_t φ_t(ξ̄_q)
-        // A′[j][d][t] along the line: LANES points q at a time.
+        // A′[j][d][t] along the line: B points q of every component at a time, so that
+        // each table row loaded serves D sums and D² sums run independently.
         for j in 0..ql {
-            for d in 0..D {
-                let at = &a[(j * D + d) * nbp..][..nb];
-                let at_prime = &a_prime[(j * D + d) * nbp..][..nb];
-                for q0 in (0..qbp).step_by(LANES) {
-                    let mut acc = [[T::default(); LANES]; D];
-                    for t in 0..nb {
-                        for (alpha, sums) in acc.iter_mut().enumerate().take(D - 1) {
-                            let f = &tables.by_point[(alpha * nb + t) * qbp + q0..][..LANES];
-                            for i in 0..LANES {
-                                sums[i] += at[t] * f[i];
+            let at = &a[j * D * nbp..][..D * nbp];
+            let at_prime = &a_prime[j * D * nbp..][..D * nbp];
+            for q0 in (0..qb).step_by(B) {
+                let mut acc = [[[T::default(); B]; D]; D];
+                for t in 0..nb {
+                    let mut f = [[T::default(); B]; D];
+                    for (alpha, row) in f.iter_mut().enumerate() {
+                        row.copy_from_slice(&tables.by_point[(alpha * nb + t) * qbp + q0..][..B]);
+                    }
+                    for (d, acc_d) in acc.iter_mut().enumerate() {
+                        let (v, v_prime) = (at[d * nbp + t], at_prime[d * nbp + t]);
+                        for (alpha, sums) in acc_d.iter_mut().enumerate().take(D - 1) {
+                            for i in 0..B {
+                                sums[i] += v * f[alpha][i];
                             }
                         }
-                        let f = &tables.by_point[((D - 1) * nb + t) * qbp + q0..][..LANES];
-                        for i in 0..LANES {
-                            acc[D - 1][i] += at_prime[t] * f[i];
+                        for i in 0..B {
+                            acc_d[D - 1][i] += v_prime * f[D - 1][i];
                         }
                     }
-                    let w = &tables.weight[j * qbp + q0..][..LANES];
-                    let count = LANES.min(qb - q0);
-                    for (alpha, sums) in acc.iter().enumerate() {
-                        let out = &mut modes[d * stride + alpha * m + j * qb + q0..][..count];
-                        for i in 0..count {
-                            out[i] = w[i] * sums[i];
+                }
+                let w = &tables.weight[j * qbp + q0..][..B];
+                for (d, acc_d) in acc.iter().enumerate() {
+                    for (alpha, sums) in acc_d.iter().enumerate() {
+                        let out = &mut modes[d * stride + alpha * m + j * qb + q0..];
+                        if q0 + B <= qb {
+                            let out = &mut out[..B];
+                            for i in 0..B {
+                                out[i] = w[i] * sums[i];
+                            }
+                        } else {
+                            for i in 0..qb - q0 {
+                                out[i] = w[i] * sums[i];
+                            }
                         }
                     }
                 }
@@ -357,7 +375,7 @@ impl ExtrudedFactors {
     /// The transpose: `y[d n_padded + b]` = Σ_(α, k) ∂_α Φ_b(k) `modes[d stride + α m + k]`,
     /// the points k in the order of [`Self::points`] (unweighted).
     #[inline(always)]
-    pub(crate) fn transpose<T: CellReal, const D: usize>(
+    pub(crate) fn transpose<T: CellReal, const D: usize, const B: usize>(
         &self,
         modes: &[T],
         stride: usize,
@@ -375,47 +393,54 @@ impl ExtrudedFactors {
             v: yt,
         } = scratch;
         // C[j][d][t] = Σ_q Σ_α ∂_α φ_t(ξ̄_q) V_d[α][(q, j)] (α in the base), C′[j][d][t] =
-        // Σ_q φ_t(ξ̄_q) V_d[last][(q, j)]: LANES nodes t at a time.
-        zeroed(c, ql * D * nbp);
-        zeroed(c_prime, ql * D * nbp);
+        // Σ_q φ_t(ξ̄_q) V_d[last][(q, j)]: B nodes t of every component at a time.
+        resized(c, ql * D * nbp);
+        resized(c_prime, ql * D * nbp);
         for j in 0..ql {
-            for d in 0..D {
-                for t0 in (0..nbp).step_by(LANES) {
-                    let (mut s, mut s_prime) = ([T::default(); LANES], [T::default(); LANES]);
-                    for q in 0..qb {
-                        for alpha in 0..D - 1 {
+            for t0 in (0..nb).step_by(B) {
+                let mut s = [[T::default(); B]; D];
+                let mut s_prime = [[T::default(); B]; D];
+                for q in 0..qb {
+                    for alpha in 0..D - 1 {
+                        let f = &tables.by_node[(alpha * qb + q) * nbp + t0..][..B];
+                        for (d, sums) in s.iter_mut().enumerate() {
                             let v = modes[d * stride + alpha * m + j * qb + q];
-                            let f = &tables.by_node[(alpha * qb + q) * nbp + t0..][..LANES];
-                            for i in 0..LANES {
-                                s[i] += v * f[i];
+                            for i in 0..B {
+                                sums[i] += v * f[i];
                             }
                         }
+                    }
+                    let f = &tables.by_node[((D - 1) * qb + q) * nbp + t0..][..B];
+                    for (d, sums) in s_prime.iter_mut().enumerate() {
                         let v = modes[d * stride + (D - 1) * m + j * qb + q];
-                        let f = &tables.by_node[((D - 1) * qb + q) * nbp + t0..][..LANES];
-                        for i in 0..LANES {
-                            s_prime[i] += v * f[i];
+                        for i in 0..B {
+                            sums[i] += v * f[i];
                         }
                     }
-                    c[(j * D + d) * nbp + t0..][..LANES].copy_from_slice(&s);
-                    c_prime[(j * D + d) * nbp + t0..][..LANES].copy_from_slice(&s_prime);
+                }
+                for d in 0..D {
+                    c[(j * D + d) * nbp + t0..][..B].copy_from_slice(&s[d]);
+                    c_prime[(j * D + d) * nbp + t0..][..B].copy_from_slice(&s_prime[d]);
                 }
             }
         }
         // Yᵀ[l][d][t] = Σ_j ψ_l(ζ_j) C[j][d][t] + ψ′_l(ζ_j) C′[j][d][t].
-        zeroed(yt, nl * D * nbp);
+        resized(yt, nl * D * nbp);
         for l in 0..nl {
-            for d in 0..D {
-                for t0 in (0..nbp).step_by(LANES) {
-                    let mut s = [T::default(); LANES];
-                    for j in 0..ql {
-                        let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
-                        let cs = &c[(j * D + d) * nbp + t0..][..LANES];
-                        let cps = &c_prime[(j * D + d) * nbp + t0..][..LANES];
-                        for i in 0..LANES {
-                            s[i] += f * cs[i] + g * cps[i];
+            for t0 in (0..nb).step_by(B) {
+                let mut s = [[T::default(); B]; D];
+                for j in 0..ql {
+                    let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
+                    for (d, sums) in s.iter_mut().enumerate() {
+                        let cs = &c[(j * D + d) * nbp + t0..][..B];
+                        let cps = &c_prime[(j * D + d) * nbp + t0..][..B];
+                        for i in 0..B {
+                            sums[i] += f * cs[i] + g * cps[i];
                         }
                     }
-                    yt[(l * D + d) * nbp + t0..][..LANES].copy_from_slice(&s);
+                }
+                for d in 0..D {
+                    yt[(l * D + d) * nbp + t0..][..B].copy_from_slice(&s[d]);
                 }
             }
         }
@@ -434,6 +459,12 @@ impl ExtrudedFactors {
 /// `buffer` as `len` zeros, reusing its allocation.
 fn zeroed<T: CellReal>(buffer: &mut Vec<T>, len: usize) {
     buffer.clear();
+    buffer.resize(len, T::default());
+}
+
+/// `buffer` `len` long, its old entries kept: for scratch whose every entry is written
+/// before it is read.
+fn resized<T: CellReal>(buffer: &mut Vec<T>, len: usize) {
     buffer.resize(len, T::default());
 }
 
@@ -492,9 +523,16 @@ mod tests {
         let mut modes = vec![0.0; D * stride];
         let mut scratch = ExtrudedScratch::default();
         match dim {
-            2 => factors.gradients::<f64, 2>(&x, n, &mut modes, stride, &mut scratch),
-            _ => factors.gradients::<f64, 3>(&x, n, &mut modes, stride, &mut scratch),
+            2 => factors.gradients::<f64, 2, 4>(&x, n, &mut modes, stride, &mut scratch),
+            _ => factors.gradients::<f64, 3, 4>(&x, n, &mut modes, stride, &mut scratch),
         }
+        // Any block width gives the same sums in the same order.
+        let mut wide = vec![0.0; D * stride];
+        match dim {
+            2 => factors.gradients::<f64, 2, 8>(&x, n, &mut wide, stride, &mut scratch),
+            _ => factors.gradients::<f64, 3, 8>(&x, n, &mut wide, stride, &mut scratch),
+        }
+        assert_eq!(modes, wide);
         let mut largest = 0.0_f64;
         let mut error = 0.0_f64;
         for d in 0..dim {
@@ -521,9 +559,15 @@ mod tests {
             .collect();
         let mut y = vec![0.0; D * n];
         match dim {
-            2 => factors.transpose::<f64, 2>(&v, stride, &mut y, n, &mut scratch),
-            _ => factors.transpose::<f64, 3>(&v, stride, &mut y, n, &mut scratch),
+            2 => factors.transpose::<f64, 2, 4>(&v, stride, &mut y, n, &mut scratch),
+            _ => factors.transpose::<f64, 3, 4>(&v, stride, &mut y, n, &mut scratch),
         }
+        let mut wide = vec![0.0; D * n];
+        match dim {
+            2 => factors.transpose::<f64, 2, 8>(&v, stride, &mut wide, n, &mut scratch),
+            _ => factors.transpose::<f64, 3, 8>(&v, stride, &mut wide, n, &mut scratch),
+        }
+        assert_eq!(y, wide);
         let (mut largest, mut error) = (0.0_f64, 0.0_f64);
         for d in 0..dim {
             for b in 0..n {

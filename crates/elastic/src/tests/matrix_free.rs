@@ -379,3 +379,55 @@ fn mat_vec_timings() {
         1e3 * best[2]
     );
 }
+
+/// Timing of the f32 and f64 cell actions on curved prisms and hexahedra (perturbed cubes
+/// of 2 × 12³ prisms and 10³ hexahedra) at p = 2..5, dense against sum-factorised, and on
+/// the tetrahedra of the same cube of prisms (run with `--ignored --nocapture`, release):
+/// best of 20, ns per unknown.
+#[test]
+#[ignore]
+fn extruded_action_timings() {
+    use hocurve_testmeshes::{unit_cube, Fill, Kuhn};
+    let meshes = [
+        ("prisms", unit_cube(12, Fill::Prism, 0.1)),
+        ("hexahedra", unit_cube(10, Fill::Hex, 0.1)),
+        ("tetrahedra", unit_cube(12, Fill::Tet(Kuhn::Paired), 0.1)),
+    ];
+    for p in 2..=5 {
+        for (name, linear) in &meshes {
+            let (mesh, constraints, _) = system(linear, p);
+            let mut line = format!("p = {p} {name:>10}:");
+            let paths: &[(&str, usize)] = match *name {
+                "tetrahedra" => &[("", usize::MAX)],
+                _ => &[("dense", usize::MAX), ("factorised", 1)],
+            };
+            for &(path, from) in paths {
+                let operator = MatrixFreeStiffness::factorised_from(
+                    &mesh,
+                    &Material::default(),
+                    None,
+                    &constraints,
+                    from,
+                )
+                .unwrap();
+                let x = pseudo_random(operator.len());
+                let mut y = vec![0.0; operator.len()];
+                let single = SinglePrecision(&operator);
+                let mut best = [f64::MAX; 2];
+                for _ in 0..20 {
+                    for (k, best) in best.iter_mut().enumerate() {
+                        let t = std::time::Instant::now();
+                        match k {
+                            0 => operator.apply(&x, &mut y),
+                            _ => single.apply(&x, &mut y),
+                        }
+                        *best = best.min(t.elapsed().as_secs_f64());
+                    }
+                }
+                let per = |s: f64| 1e9 * s / operator.len() as f64;
+                line += &format!("  {path} f64 {:.1} f32 {:.1}", per(best[0]), per(best[1]));
+            }
+            println!("{line}");
+        }
+    }
+}
