@@ -13,7 +13,7 @@
 //! the transposed sums in reverse for Rᵀ V. The matrix-free operator uses this for the action
 //! of these shapes ([`crate::matrix_free`]); the factors are checked against the tabulated
 //! basis when built, and a node set that is not a tensor product keeps the dense path.
-//! Each sum runs over B outputs side by side (B dividing [`LANES`]: one AVX2 register) —
+//! Each sum runs over B outputs side by side (one AVX2 register: 4 in f64, 8 in f32) —
 //! base nodes t for A and C, base points q for the gradients — for every component at once,
 //! so the modes are ordered line point first (j q_b + q).
 
@@ -26,54 +26,90 @@ use crate::reference_element::ReferenceStiffness;
 const SAME_COORDINATE: f64 = 1e-12;
 /// Largest relative difference between a factored gradient and the tabulated one accepted.
 const FACTOR_CHECK: f64 = 1e-10;
-/// The tables' rows are padded to a multiple of this (one AVX2 register of f32, two of
-/// f64).
-const LANES: usize = 8;
+/// Outputs summed side by side: one AVX2 register of f64, of f32.
+const DOUBLE_BLOCK: usize = 4;
+const SINGLE_BLOCK: usize = 8;
 
 /// The factors of one shape (see the module documentation).
 #[derive(Debug, Clone)]
 pub(crate) struct ExtrudedFactors {
-    /// Base nodes n_b, line nodes n_l, base points q_b, line points q_l; n_b and q_b
-    /// rounded up to whole lanes.
+    /// Base nodes n_b, line nodes n_l, base points q_b, line points q_l.
     nb: usize,
     nl: usize,
     qb: usize,
     ql: usize,
-    nb_padded: usize,
-    qb_padded: usize,
     /// Local node of (t, l) at `t n_l + l`.
     node: Vec<u32>,
     /// Rule point of (q, j) at `j q_b + q`: the order of the modes.
     point: Vec<u32>,
-    /// The tables in f64 (CG's operator) and in f32 (the smoothers').
+    /// ∂_α φ_t(ξ̄_q) for the base directions α, then (α = dim − 1) φ_t(ξ̄_q), at
+    /// `(α n_b + t) q_b + q`.
+    base: Vec<f64>,
+    /// ψ_l(ζ_j) and ψ′_l(ζ_j) at `l q_l + j`.
+    line_value: Vec<f64>,
+    line_deriv: Vec<f64>,
+    /// The tables of the cell actions in f64 (CG's operator, blocks of 4) and in f32 (the
+    /// smoothers', blocks of 8): one AVX2 register of outputs.
     double: FactorTables<f64>,
     single: FactorTables<f32>,
 }
 
-/// The factors' numbers in one precision; the padding entries are zero.
+/// The factors' numbers in one precision, in the order the sums read them: outputs in
+/// blocks of `block` side by side, every direction α of one base node or point after
+/// another. Entries beyond n_b or q_b are zero.
 #[derive(Debug, Clone)]
 pub(crate) struct FactorTables<T> {
+    block: usize,
+    /// n_b and q_b rounded up to whole blocks.
+    nb_padded: usize,
+    qb_padded: usize,
     /// The rule's weight of point (q, j) at `j q_b' + q` (q_b' = q_b padded).
     weight: Vec<T>,
-    /// ∂_α φ_t(ξ̄_q) for the base directions α, then (α = dim − 1) φ_t(ξ̄_q), at
-    /// `(α n_b + t) q_b' + q`: consecutive points side by side.
+    /// ∂_α φ_t(ξ̄_q) (φ_t for the last α) at `((q / block) n_b + t) dim block + α block
+    /// + q % block`: the gradients' sums read one row of dim blocks per node t.
     by_point: Vec<T>,
-    /// The same at `(α q_b + q) n_b' + t`: consecutive nodes side by side.
+    /// The same at `((t / block) q_b + q) dim block + α block + t % block`: the
+    /// transpose's sums read one row per point q.
     by_node: Vec<T>,
     /// ψ_l(ζ_j) and ψ′_l(ζ_j) at `l q_l + j`.
     line_value: Vec<T>,
     line_deriv: Vec<T>,
 }
 
-impl FactorTables<f64> {
-    fn narrowed<T: CellReal>(&self) -> FactorTables<T> {
+impl<T: CellReal> FactorTables<T> {
+    /// From the factors' values (`base`, `weight` at `j q_b + q`, the line's), in blocks of
+    /// `block`.
+    fn new(factors: &ExtrudedFactors, weight: &[f64], dim: usize, block: usize) -> Self {
+        let (nb, qb, ql) = (factors.nb, factors.qb, factors.ql);
+        let (nb_padded, qb_padded) = (nb.div_ceil(block) * block, qb.div_ceil(block) * block);
+        let row = dim * block;
+        let mut by_point = vec![T::default(); qb_padded * nb * dim];
+        let mut by_node = vec![T::default(); nb_padded * qb * dim];
+        for alpha in 0..dim {
+            for t in 0..nb {
+                for q in 0..qb {
+                    let v = T::of(factors.base[(alpha * nb + t) * qb + q]);
+                    by_point[(q / block * nb + t) * row + alpha * block + q % block] = v;
+                    by_node[(t / block * qb + q) * row + alpha * block + t % block] = v;
+                }
+            }
+        }
+        let mut padded = vec![T::default(); ql * qb_padded];
+        for j in 0..ql {
+            for q in 0..qb {
+                padded[j * qb_padded + q] = T::of(weight[j * qb + q]);
+            }
+        }
         let to = |v: &[f64]| v.iter().map(|&x| T::of(x)).collect();
         FactorTables {
-            weight: to(&self.weight),
-            by_point: to(&self.by_point),
-            by_node: to(&self.by_node),
-            line_value: to(&self.line_value),
-            line_deriv: to(&self.line_deriv),
+            block,
+            nb_padded,
+            qb_padded,
+            weight: padded,
+            by_point,
+            by_node,
+            line_value: to(&factors.line_value),
+            line_deriv: to(&factors.line_deriv),
         }
     }
 }
@@ -157,12 +193,10 @@ impl ExtrudedFactors {
             line_points.len(),
         );
         let n = element.len();
-        let (nb_padded, qb_padded) = (nb.div_ceil(LANES) * LANES, qb.div_ceil(LANES) * LANES);
         let (mut values, mut grads) = (vec![0.0; n], vec![[0.0; 3]; n]);
         // φ_t and its gradient: the basis of nodes (t, 0) on the line of node 0, where
         // ψ_0 = 1.
-        let mut by_point = vec![0.0; dim * nb * qb_padded];
-        let mut by_node = vec![0.0; dim * qb * nb_padded];
+        let mut base = vec![0.0; dim * nb * qb];
         for (q, b) in base_points.iter().enumerate() {
             let mut xi = *b;
             xi[axis] = line_nodes[0];
@@ -171,13 +205,11 @@ impl ExtrudedFactors {
             for t in 0..nb {
                 let at = node[t * nl];
                 for alpha in 0..dim {
-                    let v = if alpha < axis {
+                    base[(alpha * nb + t) * qb + q] = if alpha < axis {
                         grads[at][alpha]
                     } else {
                         values[at]
                     };
-                    by_point[(alpha * nb + t) * qb_padded + q] = v;
-                    by_node[(alpha * qb + q) * nb_padded + t] = v;
                 }
             }
         }
@@ -200,31 +232,22 @@ impl ExtrudedFactors {
         let order: Vec<usize> = (0..ql)
             .flat_map(|j| (0..qb).map(move |q| point[q * ql + j]))
             .collect();
-        let mut weight = vec![0.0; ql * qb_padded];
-        for j in 0..ql {
-            for q in 0..qb {
-                weight[j * qb_padded + q] = rule.weights()[order[j * qb + q]];
-            }
-        }
-        let double = FactorTables {
-            weight,
-            by_point,
-            by_node,
-            line_value,
-            line_deriv,
-        };
-        let factors = ExtrudedFactors {
+        let weight: Vec<f64> = order.iter().map(|&k| rule.weights()[k]).collect();
+        let mut factors = ExtrudedFactors {
             nb,
             nl,
             qb,
             ql,
-            nb_padded,
-            qb_padded,
             node: node.iter().map(|&b| b as u32).collect(),
             point: order.iter().map(|&k| k as u32).collect(),
-            single: double.narrowed(),
-            double,
+            base,
+            line_value,
+            line_deriv,
+            double: FactorTables::empty(),
+            single: FactorTables::empty(),
         };
+        factors.double = FactorTables::new(&factors, &weight, dim, DOUBLE_BLOCK);
+        factors.single = FactorTables::new(&factors, &weight, dim, SINGLE_BLOCK);
         factors.reproduces(reference).then_some(factors)
     }
 
@@ -244,12 +267,10 @@ impl ExtrudedFactors {
                 for t in 0..self.nb {
                     for l in 0..self.nl {
                         let b = self.node[t * self.nl + l] as usize;
-                        let base = |alpha: usize| {
-                            self.double.by_point[(alpha * self.nb + t) * self.qb_padded + q]
-                        };
+                        let base = |alpha: usize| self.base[(alpha * self.nb + t) * self.qb + q];
                         let (line, slope) = (
-                            self.double.line_value[l * self.ql + j],
-                            self.double.line_deriv[l * self.ql + j],
+                            self.line_value[l * self.ql + j],
+                            self.line_deriv[l * self.ql + j],
                         );
                         // ∂_α Φ = ∂_α φ ψ in the base, φ ψ′ along the line.
                         let factored = |alpha: usize| {
@@ -279,6 +300,7 @@ impl ExtrudedFactors {
 
     /// The weighted gradient modes of one cell: `modes[d stride + α m + j q_b + q]` =
     /// w ∂u_d/∂ξ_α at point (q, j), from `x[d n + b]` (m the rule's size, n the nodes).
+    /// B is the block of the precision's tables (4 in f64, 8 in f32).
     #[inline(always)]
     pub(crate) fn gradients<T: CellReal, const D: usize, const B: usize>(
         &self,
@@ -289,66 +311,70 @@ impl ExtrudedFactors {
         scratch: &mut ExtrudedScratch<T>,
     ) {
         let (nb, nl, qb, ql) = (self.nb, self.nl, self.qb, self.ql);
-        let (nbp, qbp) = (self.nb_padded, self.qb_padded);
-        let m = qb * ql;
         let tables = T::extruded_tables(self);
+        assert_eq!(tables.block, B, "the tables' block");
+        let qbp = tables.qb_padded;
+        let m = qb * ql;
+        // The nodes' values in base-node order, every component of one node side by side,
+        // rounded up to whole blocks.
+        let span = (nb * D).div_ceil(B) * B;
         let ExtrudedScratch { a, a_prime, v: xt } = scratch;
-        // Xᵀ[l][d][t] = X_d(t, l), zero beyond n_b (the only entries read but not written).
-        zeroed(xt, nl * D * nbp);
+        // Xᵀ[l][t][d] = X_d(t, l) at `l span + t D + d`, zero beyond n_b D (read, not
+        // written).
+        zeroed(xt, nl * span);
         for t in 0..nb {
             for l in 0..nl {
                 let b = self.node[t * nl + l] as usize;
                 for d in 0..D {
-                    xt[(l * D + d) * nbp + t] = x[d * n + b];
+                    xt[l * span + t * D + d] = x[d * n + b];
                 }
             }
         }
-        // A[j][d][t] = Σ_l ψ_l(ζ_j) Xᵀ[l][d][t], A′ with ψ′: B nodes t of every
-        // component at a time (2 D independent sums).
-        resized(a, ql * D * nbp);
-        resized(a_prime, ql * D * nbp);
+        // A[j][t][d] = Σ_l ψ_l(ζ_j) Xᵀ[l][t][d], A′ with ψ′: B of (t, d) at a time.
+        resized(a, ql * span);
+        resized(a_prime, ql * span);
         for j in 0..ql {
-            for t0 in (0..nb).step_by(B) {
-                let mut s = [[T::default(); B]; D];
-                let mut s_prime = [[T::default(); B]; D];
+            for k0 in (0..span).step_by(B) {
+                let (mut s, mut s_prime) = ([T::default(); B], [T::default(); B]);
                 for l in 0..nl {
                     let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
-                    for d in 0..D {
-                        let xs = &xt[(l * D + d) * nbp + t0..][..B];
-                        for i in 0..B {
-                            s[d][i] += f * xs[i];
-                            s_prime[d][i] += g * xs[i];
-                        }
+                    let xs = &xt[l * span + k0..][..B];
+                    for i in 0..B {
+                        s[i] += f * xs[i];
+                        s_prime[i] += g * xs[i];
                     }
                 }
-                for d in 0..D {
-                    a[(j * D + d) * nbp + t0..][..B].copy_from_slice(&s[d]);
-                    a_prime[(j * D + d) * nbp + t0..][..B].copy_from_slice(&s_prime[d]);
-                }
+                a[j * span + k0..][..B].copy_from_slice(&s);
+                a_prime[j * span + k0..][..B].copy_from_slice(&s_prime);
             }
         }
-        // U_d[α][(q, j)] = w Σ_t ∂_α φ_t(ξ̄_q) A[j][d][t] (α in the base), w Σ_t φ_t(ξ̄_q)
-        // A′[j][d][t] along the line: B points q of every component at a time, so that
-        // each table row loaded serves D sums and D² sums run independently.
+        // U_d[α][(q, j)] = w Σ_t ∂_α φ_t(ξ̄_q) A[j][t][d] (α in the base), w Σ_t φ_t(ξ̄_q)
+        // A′[j][t][d] along the line: B points q of every component at a time, so that each
+        // table row loaded serves D sums and D² sums run independently.
+        let row = D * B;
         for j in 0..ql {
-            let at = &a[j * D * nbp..][..D * nbp];
-            let at_prime = &a_prime[j * D * nbp..][..D * nbp];
-            for q0 in (0..qb).step_by(B) {
+            let at = &a[j * span..][..nb * D];
+            let at_prime = &a_prime[j * span..][..nb * D];
+            for (block, rows) in tables.by_point.chunks_exact(nb * row).enumerate() {
+                let q0 = block * B;
                 let mut acc = [[[T::default(); B]; D]; D];
-                for t in 0..nb {
-                    let mut f = [[T::default(); B]; D];
-                    for (alpha, row) in f.iter_mut().enumerate() {
-                        row.copy_from_slice(&tables.by_point[(alpha * nb + t) * qbp + q0..][..B]);
+                for ((f, v), v_prime) in rows
+                    .chunks_exact(row)
+                    .zip(at.chunks_exact(D))
+                    .zip(at_prime.chunks_exact(D))
+                {
+                    let mut fs = [[T::default(); B]; D];
+                    for (alpha, lanes) in fs.iter_mut().enumerate() {
+                        lanes.copy_from_slice(&f[alpha * B..][..B]);
                     }
                     for (d, acc_d) in acc.iter_mut().enumerate() {
-                        let (v, v_prime) = (at[d * nbp + t], at_prime[d * nbp + t]);
                         for (alpha, sums) in acc_d.iter_mut().enumerate().take(D - 1) {
                             for i in 0..B {
-                                sums[i] += v * f[alpha][i];
+                                sums[i] += v[d] * fs[alpha][i];
                             }
                         }
                         for i in 0..B {
-                            acc_d[D - 1][i] += v_prime * f[D - 1][i];
+                            acc_d[D - 1][i] += v_prime[d] * fs[D - 1][i];
                         }
                     }
                 }
@@ -373,7 +399,8 @@ impl ExtrudedFactors {
     }
 
     /// The transpose: `y[d n_padded + b]` = Σ_(α, k) ∂_α Φ_b(k) `modes[d stride + α m + k]`,
-    /// the points k in the order of [`Self::points`] (unweighted).
+    /// the points k in the order of [`Self::points`] (unweighted); B as in
+    /// [`Self::gradients`].
     #[inline(always)]
     pub(crate) fn transpose<T: CellReal, const D: usize, const B: usize>(
         &self,
@@ -384,9 +411,10 @@ impl ExtrudedFactors {
         scratch: &mut ExtrudedScratch<T>,
     ) {
         let (nb, nl, qb, ql) = (self.nb, self.nl, self.qb, self.ql);
-        let nbp = self.nb_padded;
-        let m = qb * ql;
         let tables = T::extruded_tables(self);
+        assert_eq!(tables.block, B, "the tables' block");
+        let nbp = tables.nb_padded;
+        let m = qb * ql;
         let ExtrudedScratch {
             a: c,
             a_prime: c_prime,
@@ -396,25 +424,36 @@ impl ExtrudedFactors {
         // Σ_q φ_t(ξ̄_q) V_d[last][(q, j)]: B nodes t of every component at a time.
         resized(c, ql * D * nbp);
         resized(c_prime, ql * D * nbp);
+        let row = D * B;
         for j in 0..ql {
-            for t0 in (0..nb).step_by(B) {
+            // V_d[α][(·, j)].
+            let mut v: [[&[T]; D]; D] = [[&[]; D]; D];
+            for (d, v_d) in v.iter_mut().enumerate() {
+                for (alpha, v_da) in v_d.iter_mut().enumerate() {
+                    *v_da = &modes[d * stride + alpha * m + j * qb..][..qb];
+                }
+            }
+            for (block, rows) in tables.by_node.chunks_exact(qb * row).enumerate() {
+                let t0 = block * B;
                 let mut s = [[T::default(); B]; D];
                 let mut s_prime = [[T::default(); B]; D];
-                for q in 0..qb {
-                    for alpha in 0..D - 1 {
-                        let f = &tables.by_node[(alpha * qb + q) * nbp + t0..][..B];
+                for (q, f) in rows.chunks_exact(row).enumerate().take(qb) {
+                    let mut fs = [[T::default(); B]; D];
+                    for (alpha, lanes) in fs.iter_mut().enumerate() {
+                        lanes.copy_from_slice(&f[alpha * B..][..B]);
+                    }
+                    for (alpha, f) in fs.iter().enumerate().take(D - 1) {
                         for (d, sums) in s.iter_mut().enumerate() {
-                            let v = modes[d * stride + alpha * m + j * qb + q];
+                            let value = v[d][alpha][q];
                             for i in 0..B {
-                                sums[i] += v * f[i];
+                                sums[i] += value * f[i];
                             }
                         }
                     }
-                    let f = &tables.by_node[((D - 1) * qb + q) * nbp + t0..][..B];
                     for (d, sums) in s_prime.iter_mut().enumerate() {
-                        let v = modes[d * stride + (D - 1) * m + j * qb + q];
+                        let value = v[d][D - 1][q];
                         for i in 0..B {
-                            sums[i] += v * f[i];
+                            sums[i] += value * fs[D - 1][i];
                         }
                     }
                 }
@@ -425,23 +464,20 @@ impl ExtrudedFactors {
             }
         }
         // Yᵀ[l][d][t] = Σ_j ψ_l(ζ_j) C[j][d][t] + ψ′_l(ζ_j) C′[j][d][t].
-        resized(yt, nl * D * nbp);
+        let span = D * nbp;
+        resized(yt, nl * span);
         for l in 0..nl {
-            for t0 in (0..nb).step_by(B) {
-                let mut s = [[T::default(); B]; D];
+            for k0 in (0..span).step_by(B) {
+                let mut s = [T::default(); B];
                 for j in 0..ql {
                     let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
-                    for (d, sums) in s.iter_mut().enumerate() {
-                        let cs = &c[(j * D + d) * nbp + t0..][..B];
-                        let cps = &c_prime[(j * D + d) * nbp + t0..][..B];
-                        for i in 0..B {
-                            sums[i] += f * cs[i] + g * cps[i];
-                        }
+                    let cs = &c[j * span + k0..][..B];
+                    let cps = &c_prime[j * span + k0..][..B];
+                    for i in 0..B {
+                        s[i] += f * cs[i] + g * cps[i];
                     }
                 }
-                for d in 0..D {
-                    yt[(l * D + d) * nbp + t0..][..B].copy_from_slice(&s[d]);
-                }
+                yt[l * span + k0..][..B].copy_from_slice(&s);
             }
         }
         // Y_d(t, l) into the cell's node order.
@@ -449,7 +485,7 @@ impl ExtrudedFactors {
             for l in 0..nl {
                 let b = self.node[t * nl + l] as usize;
                 for d in 0..D {
-                    y[d * n_padded + b] = yt[(l * D + d) * nbp + t];
+                    y[d * n_padded + b] = yt[l * span + d * nbp + t];
                 }
             }
         }
@@ -466,6 +502,22 @@ fn zeroed<T: CellReal>(buffer: &mut Vec<T>, len: usize) {
 /// before it is read.
 fn resized<T: CellReal>(buffer: &mut Vec<T>, len: usize) {
     buffer.resize(len, T::default());
+}
+
+impl<T: CellReal> FactorTables<T> {
+    /// No tables (while the factors that make them are built).
+    fn empty() -> Self {
+        FactorTables {
+            block: 1,
+            nb_padded: 0,
+            qb_padded: 0,
+            weight: Vec::new(),
+            by_point: Vec::new(),
+            by_node: Vec::new(),
+            line_value: Vec::new(),
+            line_deriv: Vec::new(),
+        }
+    }
 }
 
 impl ExtrudedFactors {
@@ -526,13 +578,31 @@ mod tests {
             2 => factors.gradients::<f64, 2, 4>(&x, n, &mut modes, stride, &mut scratch),
             _ => factors.gradients::<f64, 3, 4>(&x, n, &mut modes, stride, &mut scratch),
         }
-        // Any block width gives the same sums in the same order.
-        let mut wide = vec![0.0; D * stride];
+        // f32 (blocks of 8) to its round-off.
+        let single: Vec<f32> = x.iter().map(|&v| v as f32).collect();
+        let mut narrow = vec![0.0_f32; D * stride];
         match dim {
-            2 => factors.gradients::<f64, 2, 8>(&x, n, &mut wide, stride, &mut scratch),
-            _ => factors.gradients::<f64, 3, 8>(&x, n, &mut wide, stride, &mut scratch),
+            2 => factors.gradients::<f32, 2, 8>(
+                &single,
+                n,
+                &mut narrow,
+                stride,
+                &mut Default::default(),
+            ),
+            _ => factors.gradients::<f32, 3, 8>(
+                &single,
+                n,
+                &mut narrow,
+                stride,
+                &mut Default::default(),
+            ),
         }
-        assert_eq!(modes, wide);
+        let largest = modes.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let error = modes
+            .iter()
+            .zip(&narrow)
+            .fold(0.0_f64, |e, (a, b)| e.max((a - *b as f64).abs()));
+        assert!(error <= 1e-5 * largest, "f32: {error:e} of {largest:e}");
         let mut largest = 0.0_f64;
         let mut error = 0.0_f64;
         for d in 0..dim {
@@ -562,12 +632,30 @@ mod tests {
             2 => factors.transpose::<f64, 2, 4>(&v, stride, &mut y, n, &mut scratch),
             _ => factors.transpose::<f64, 3, 4>(&v, stride, &mut y, n, &mut scratch),
         }
-        let mut wide = vec![0.0; D * n];
+        let single: Vec<f32> = v.iter().map(|&v| v as f32).collect();
+        let mut narrow = vec![0.0_f32; D * n];
         match dim {
-            2 => factors.transpose::<f64, 2, 8>(&v, stride, &mut wide, n, &mut scratch),
-            _ => factors.transpose::<f64, 3, 8>(&v, stride, &mut wide, n, &mut scratch),
+            2 => factors.transpose::<f32, 2, 8>(
+                &single,
+                stride,
+                &mut narrow,
+                n,
+                &mut Default::default(),
+            ),
+            _ => factors.transpose::<f32, 3, 8>(
+                &single,
+                stride,
+                &mut narrow,
+                n,
+                &mut Default::default(),
+            ),
         }
-        assert_eq!(y, wide);
+        let largest = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let error = y
+            .iter()
+            .zip(&narrow)
+            .fold(0.0_f64, |e, (a, b)| e.max((a - *b as f64).abs()));
+        assert!(error <= 1e-5 * largest, "f32: {error:e} of {largest:e}");
         let (mut largest, mut error) = (0.0_f64, 0.0_f64);
         for d in 0..dim {
             for b in 0..n {

@@ -50,7 +50,15 @@ const RANK_TOLERANCE: f64 = 1e-10;
 /// sums lane-parallel over nodes and points (session 22; the layered sphere shell of
 /// `bench --layers`, 12 k curved prisms, ns per unknown and CG iteration): p = 2 64
 /// factorised against 44 dense, p = 3 200 against 168–174, p = 4 331–366 against 378–386.
-const FACTORISED_FROM_ORDER: usize = 4;
+/// With every component's sums side by side and the tables in the order the sums read them
+/// (session 23; `extruded_action_timings`, perturbed cubes, ns per unknown of one action,
+/// f64 / f32): prisms at p = 3 30.5 / 22.6 against 42.3 / 23.8 dense, hexahedra 26.0 /
+/// 17.8 against 42.2 / 23.4; at p = 2 still 44.0 / 35.6 against 36.7 / 24.8.
+const FACTORISED_FROM_ORDER: usize = 3;
+/// The same for prisms with one Jacobian (extruded, affine), whose dense factors have rank
+/// dim ∇P rather than a row per point: at p = 3 31.0 / 19.0 dense against 31.1 / 24.5, at
+/// p = 4 41.3 / 23.3 against 26.6 / 17.1.
+const AFFINE_FACTORISED_FROM_ORDER: usize = 4;
 /// Quadrature points (modes) whose stresses are computed side by side in the cell action.
 const POINT_LANES: usize = 8;
 /// How many of a run's nodes ahead the gathers and scatters prefetch.
@@ -383,18 +391,18 @@ impl MatrixFreeStiffness {
             material,
             stiffening,
             constraints,
-            FACTORISED_FROM_ORDER,
+            [FACTORISED_FROM_ORDER, AFFINE_FACTORISED_FROM_ORDER],
         )
     }
 
-    /// [`Self::new`] with sum factorisation from order `from` (tests and timings compare
-    /// the two paths).
+    /// [`Self::new`] with sum factorisation from the orders `from` (cells with a Jacobian
+    /// per point, affine prisms): tests and timings compare the two paths.
     pub(crate) fn factorised_from(
         mesh: &HighOrderMesh,
         material: &Material,
         stiffening: Option<&[f64]>,
         constraints: &Constraints,
-        from: usize,
+        from: [usize; 2],
     ) -> Result<Self, ElasticError> {
         material.validate()?;
         let dim = mesh.dim;
@@ -408,15 +416,10 @@ impl MatrixFreeStiffness {
         }
         let mut parts = Vec::new();
         for (&shape, stiffness) in &references {
-            let extruded = (stiffness.order >= from)
-                .then(|| ExtrudedFactors::new(stiffness))
-                .flatten();
-            // With sum factorisation, the rule's points in the factors' tensor order.
-            let points = extruded.as_ref().map_or(&[][..], |f| f.points());
             // Extruded prisms are affine: like simplices, one Jacobian per cell and the
-            // reference factors of rank dim(∇ space) (36 rows at p = 3 against 64 points).
+            // reference factors of rank dim(∇ space) (36 rows at p = 3 against 48 points).
             let affine_prisms = shape == Shape::Prism
-                && extruded.is_none()
+                && stiffness.order < from[1]
                 && mesh
                     .cells
                     .par_iter()
@@ -426,6 +429,11 @@ impl MatrixFreeStiffness {
                             cell.nodes.iter().map(|&n| mesh.nodes[n as usize]).collect();
                         stiffness.is_affine_prism(&coords)
                     });
+            let extruded = (!affine_prisms && stiffness.order >= from[0])
+                .then(|| ExtrudedFactors::new(stiffness))
+                .flatten();
+            // With sum factorisation, the rule's points in the factors' tensor order.
+            let points = extruded.as_ref().map_or(&[][..], |f| f.points());
             let reference = match (&stiffness.simplex_stiffness, affine_prisms) {
                 (Some(_), _) | (None, true) => ReferenceGradients::shared(stiffness)?,
                 (None, false) => Arc::new(ReferenceGradients::at_quadrature(stiffness, points)),

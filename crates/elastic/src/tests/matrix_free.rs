@@ -287,8 +287,8 @@ fn extruded_prisms_are_applied_with_one_jacobian_per_cell() {
 
 /// The smoothers' f32 action: within f32 round-off of the f64 one on every shape it takes
 /// (simplices, affine and per-point prisms, hexahedra, quadrilaterals, 2D and 3D), the same
-/// bits with and without AVX2 and for any thread count, sum-factorised parts (hexahedra and
-/// prisms from order 4) included.
+/// bits with and without AVX2 and for any thread count, sum-factorised parts (hexahedra,
+/// quadrilaterals and curved prisms from order 3, affine prisms from order 4) included.
 #[test]
 fn the_single_precision_action_is_the_double_one_to_f32_round_off() {
     let material = Material::default();
@@ -381,8 +381,9 @@ fn mat_vec_timings() {
 }
 
 /// Timing of the f32 and f64 cell actions on curved prisms and hexahedra (perturbed cubes
-/// of 2 × 12³ prisms and 10³ hexahedra) at p = 2..5, dense against sum-factorised, and on
-/// the tetrahedra of the same cube of prisms (run with `--ignored --nocapture`, release):
+/// of 2 × 12³ prisms and 10³ hexahedra), and on extruded prisms (one Jacobian per cell
+/// when dense), at p = 2..5, dense against sum-factorised, and on the tetrahedra of the
+/// same cube of prisms (run with `--ignored --nocapture`, release):
 /// best of 20, ns per unknown.
 #[test]
 #[ignore]
@@ -390,6 +391,7 @@ fn extruded_action_timings() {
     use hocurve_testmeshes::{unit_cube, Fill, Kuhn};
     let meshes = [
         ("prisms", unit_cube(12, Fill::Prism, 0.1)),
+        ("extruded", unit_cube(12, Fill::Prism, 0.0)),
         ("hexahedra", unit_cube(10, Fill::Hex, 0.1)),
         ("tetrahedra", unit_cube(12, Fill::Tet(Kuhn::Paired), 0.1)),
     ];
@@ -397,9 +399,9 @@ fn extruded_action_timings() {
         for (name, linear) in &meshes {
             let (mesh, constraints, _) = system(linear, p);
             let mut line = format!("p = {p} {name:>10}:");
-            let paths: &[(&str, usize)] = match *name {
-                "tetrahedra" => &[("", usize::MAX)],
-                _ => &[("dense", usize::MAX), ("factorised", 1)],
+            let paths: &[(&str, [usize; 2])] = match *name {
+                "tetrahedra" => &[("", [usize::MAX; 2])],
+                _ => &[("dense", [usize::MAX; 2]), ("factorised", [1; 2])],
             };
             for &(path, from) in paths {
                 let operator = MatrixFreeStiffness::factorised_from(
