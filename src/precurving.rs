@@ -513,14 +513,14 @@ mod tests {
         let cylinder =
             hocurve_nurbs::shapes::cylinder([0.0, 0.0, 0.5], [1.0, 0.0, 0.0], 0.5, (-2.0, 2.0))
                 .expect("cylinder");
-        hocurve_nurbs::GeometryModel {
-            entities: vec![
+        hocurve_nurbs::GeometryModel::new(
+            vec![
                 GeometricEntity::new("z0", "test", plane(|a, b| [a, b, 0.0])),
                 GeometricEntity::new("y0", "test", plane(|a, b| [a, 0.0, b])),
                 GeometricEntity::new("fillet", "test", EntityGeometry::Surface(cylinder)),
             ],
-            uncertainty: None,
-        }
+            None,
+        )
     }
 
     #[test]
@@ -662,10 +662,7 @@ mod tests {
         let mut cylinder = GeometricEntity::new("side", "test", EntityGeometry::Surface(nurbs));
         cylinder.analytic =
             Some(AnalyticShape::new_cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("cylinder"));
-        let model = hocurve_nurbs::GeometryModel {
-            entities: vec![cylinder],
-            uncertainty: None,
-        };
+        let model = hocurve_nurbs::GeometryModel::new(vec![cylinder], None);
         let theta = 40f64.to_radians();
         let mut mesh = hocurve_testmeshes::unit_tet();
         mesh.vertices = vec![

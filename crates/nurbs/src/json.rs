@@ -309,10 +309,7 @@ pub fn parse_geometry_json(text: &str) -> Result<GeometryModel, GeometryInputErr
         first_use.insert(entity.name.clone(), index);
         entities.push(entity);
     }
-    Ok(GeometryModel {
-        entities,
-        uncertainty: None,
-    })
+    Ok(GeometryModel::new(entities, None))
 }
 
 /// Reads and parses a JSON geometry file; entity origins name the file.

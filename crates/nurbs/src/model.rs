@@ -178,7 +178,8 @@ impl GeometricEntity {
 /// A set of named curves and surfaces.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct GeometryModel {
-    /// The entities, in input order.
+    /// The entities, in input order. Their geometry is not to change once [`Self::size`]
+    /// has been asked (it is kept).
     pub entities: Vec<GeometricEntity>,
     /// The distance to which the file says its entities meet, in the model's length unit
     /// (millimetres for STEP and IGES): STEP's `UNCERTAINTY_MEASURE_WITH_UNIT` of a length,
@@ -186,9 +187,32 @@ pub struct GeometryModel {
     /// separately (a fillet approximated by a B-spline beside the exact sphere it rounds)
     /// meet only to this; `None` when the source states none (exact analytic shapes).
     pub uncertainty: Option<f64>,
+    /// [`Self::size`], computed on first use: the tolerances of every projection onto
+    /// several entities scale with it, and computing it visits every control point (on
+    /// an assembly from STEP, a quarter of the whole run was spent there).
+    size: ModelSize,
+}
+
+/// The model's size once computed; models are equal whatever it holds.
+#[derive(Debug, Clone, Default)]
+struct ModelSize(OnceLock<f64>);
+
+impl PartialEq for ModelSize {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl GeometryModel {
+    /// A model of `entities` that meet to `uncertainty` (see the fields).
+    pub fn new(entities: Vec<GeometricEntity>, uncertainty: Option<f64>) -> Self {
+        GeometryModel {
+            entities,
+            uncertainty,
+            size: ModelSize::default(),
+        }
+    }
+
     /// The entity called `name`, if any.
     pub fn entity(&self, name: &str) -> Option<&GeometricEntity> {
         self.entities.iter().find(|e| e.name == name)
@@ -207,7 +231,10 @@ impl GeometryModel {
 
     /// Model size: the largest entity size (for relative tolerances).
     pub fn size(&self) -> f64 {
-        self.entities.iter().map(|e| e.size()).fold(0.0, f64::max)
+        *self
+            .size
+            .0
+            .get_or_init(|| self.entities.iter().map(|e| e.size()).fold(0.0, f64::max))
     }
 }
 

@@ -49,10 +49,7 @@ fn model(slope: f64, with_rim: bool) -> GeometryModel {
         rim.analytic = Some(AnalyticShape::new_circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("c"));
         entities.push(rim);
     }
-    GeometryModel {
-        entities,
-        uncertainty: None,
-    }
+    GeometryModel::new(entities, None)
 }
 
 /// A can of `n` prisms about the z axis: bottom triangles on the plane z = slope · x
@@ -251,10 +248,7 @@ fn torus_on_plane(gap: f64) -> GeometryModel {
     torus.analytic =
         Some(AnalyticShape::new_torus(centre, [0.0, 0.0, 1.0], 1.0, 0.5).expect("torus"));
     let plane = GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane(0.0)));
-    GeometryModel {
-        entities: vec![torus, plane],
-        uncertainty: None,
-    }
+    GeometryModel::new(vec![torus, plane], None)
 }
 
 #[test]
@@ -330,10 +324,10 @@ fn an_edge_across_two_faces_of_one_cylinder_follows_the_cylinder() {
             Some(AnalyticShape::new_cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("cyl"));
         e
     };
-    let geometry = GeometryModel {
-        entities: vec![face("lower", (0.0, 1.0)), face("upper", (1.0, 2.0))],
-        uncertainty: None,
-    };
+    let geometry = GeometryModel::new(
+        vec![face("lower", (0.0, 1.0)), face("upper", (1.0, 2.0))],
+        None,
+    );
     let (a, b) = ([1.0, 0.0, 0.2], [0.0, 1.0, 1.5]);
     let curve = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);
     let middle = curve.at(0.5);
@@ -370,10 +364,7 @@ fn cone_on_torus(gap: f64, closed_form: bool) -> GeometryModel {
     );
     torus.analytic =
         Some(AnalyticShape::new_torus([0.0; 3], [0.0, 0.0, 1.0], 1.0, 0.25).expect("torus"));
-    GeometryModel {
-        entities: vec![cone, torus],
-        uncertainty: Some(1e-7),
-    }
+    GeometryModel::new(vec![cone, torus], Some(1e-7))
 }
 
 #[test]

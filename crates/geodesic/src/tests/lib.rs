@@ -21,10 +21,7 @@ pub(crate) fn sphere_model(name: &str, radius: f64) -> GeometryModel {
         EntityGeometry::Surface(sphere([0.0; 3], radius).expect("sphere")),
     );
     e.analytic = Some(AnalyticShape::new_sphere([0.0; 3], radius).expect("sphere"));
-    GeometryModel {
-        entities: vec![e],
-        uncertainty: None,
-    }
+    GeometryModel::new(vec![e], None)
 }
 
 fn group_facets(mesh: &LinearMesh, name: &str) -> Vec<bool> {
@@ -158,14 +155,14 @@ fn proximity_leaves_out_a_facet_that_only_touches_the_curve() {
         cell_tags: Vec::new(),
         facet_tags: Vec::new(),
     };
-    let model = GeometryModel {
-        entities: vec![GeometricEntity::new(
+    let model = GeometryModel::new(
+        vec![GeometricEntity::new(
             "wall",
             "test",
             EntityGeometry::Curve(circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).expect("circle")),
         )],
-        uncertainty: None,
-    };
+        None,
+    );
     let tolerance = 1e-4 * bounding_box_diagonal(&mesh.vertices);
     assert!(h < tolerance, "the case needs h within the tolerance");
     let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None).expect("ok");
@@ -338,10 +335,7 @@ mod placement {
         );
         e.analytic =
             Some(AnalyticShape::new_circle([0.5, 0.0, 0.0], [0.0, 0.0, 1.0], 10.0).unwrap());
-        let model = GeometryModel {
-            entities: vec![e],
-            uncertainty: None,
-        };
+        let model = GeometryModel::new(vec![e], None);
         let a = associate_boundary(&linear, &model, AssociationRule::NameOnly, None).unwrap();
         assert!(a.by_name > 10);
         let mesh = HighOrderMesh::from_linear(&linear, 5, NodeFamily::Fekete).unwrap();
@@ -469,8 +463,8 @@ fn a_facet_with_every_vertex_on_a_rim_goes_to_the_surface_through_its_centre() {
         [corner(2.0, -2.0), corner(2.0, 2.0)],
     ])
     .expect("plane");
-    let model = GeometryModel {
-        entities: vec![
+    let model = GeometryModel::new(
+        vec![
             GeometricEntity::new(
                 "cylinder",
                 "test",
@@ -480,8 +474,8 @@ fn a_facet_with_every_vertex_on_a_rim_goes_to_the_surface_through_its_centre() {
             ),
             GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane)),
         ],
-        uncertainty: None,
-    };
+        None,
+    );
     let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None).expect("ok");
     assert_eq!(a.facet_entity, [Some(1), Some(0)]);
     assert_eq!(a.vertex_entities[&1], [0, 1], "on the rim: both surfaces");
@@ -524,10 +518,10 @@ fn a_facet_on_one_of_two_coaxial_faces_goes_to_the_face_that_holds_it() {
         e.analytic = Some(AnalyticShape::new_cylinder([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap());
         e
     };
-    let model = GeometryModel {
-        entities: vec![face("lower", (0.0, 1.0)), face("upper", (2.0, 3.0))],
-        uncertainty: None,
-    };
+    let model = GeometryModel::new(
+        vec![face("lower", (0.0, 1.0)), face("upper", (2.0, 3.0))],
+        None,
+    );
     let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None).expect("ok");
     assert_eq!(a.facet_entity, [Some(1)]);
     assert_eq!(a.vertex_entities[&0], [1]);

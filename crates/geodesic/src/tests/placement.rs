@@ -188,10 +188,7 @@ fn a_node_on_faces_apart_by_the_files_uncertainty_is_measured_beyond_their_gap()
     // On the inner sphere, half-way, and 1e-4 outside both.
     let nodes = vec![at(1.0), at(1.0 + 0.5 * gap), at(1.0 + 1e-4)];
     let measure = |uncertainty: Option<f64>, node: u32| {
-        let model = GeometryModel {
-            uncertainty,
-            ..model.clone()
-        };
+        let model = GeometryModel::new(model.entities.clone(), uncertainty);
         let entities = BTreeMap::from([(node, vec![0, 1])]);
         max_distance_from_geometry(&model, &entities, &nodes)
     };

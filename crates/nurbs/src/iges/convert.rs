@@ -168,10 +168,7 @@ impl<'a> Converter<'a> {
                 converted.push(c);
             }
         }
-        Ok(GeometryModel {
-            entities: name_entities(converted),
-            uncertainty: None,
-        })
+        Ok(GeometryModel::new(name_entities(converted), None))
     }
 
     /// Entities that stand alone: by the subordinate switch when the file sets it anywhere,

@@ -151,10 +151,10 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
     if converted.is_empty() {
         return Err(StepError::Empty);
     }
-    Ok(GeometryModel {
-        entities: name_entities(converted),
-        uncertainty: c.length_uncertainty()?,
-    })
+    Ok(GeometryModel::new(
+        name_entities(converted),
+        c.length_uncertainty()?,
+    ))
 }
 
 /// Names and origins (see the module documentation).

@@ -15,10 +15,7 @@ fn sphere_entity_projects_exactly_and_inverts_to_its_parameter() {
     let d = vec3::sub(cp.point, [1.0, 0.0, 0.0]);
     assert!((vec3::norm(d) - 2.0).abs() < 1e-15);
     assert!(vec3::distance(e.point(cp.param), cp.point) < 1e-12);
-    let model = GeometryModel {
-        entities: vec![e],
-        uncertainty: None,
-    };
+    let model = GeometryModel::new(vec![e], None);
     assert_eq!(model.index_of("ball"), Some(0));
     assert_eq!(model.counts(), (0, 1));
     assert!(model.entity("cube").is_none());
