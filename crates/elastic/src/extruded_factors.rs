@@ -597,12 +597,7 @@ mod tests {
                 &mut Default::default(),
             ),
         }
-        let largest = modes.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let error = modes
-            .iter()
-            .zip(&narrow)
-            .fold(0.0_f64, |e, (a, b)| e.max((a - *b as f64).abs()));
-        assert!(error <= 1e-5 * largest, "f32: {error:e} of {largest:e}");
+        assert_within_f32_round_off(&modes, &narrow);
         let mut largest = 0.0_f64;
         let mut error = 0.0_f64;
         for d in 0..dim {
@@ -650,12 +645,7 @@ mod tests {
                 &mut Default::default(),
             ),
         }
-        let largest = y.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
-        let error = y
-            .iter()
-            .zip(&narrow)
-            .fold(0.0_f64, |e, (a, b)| e.max((a - *b as f64).abs()));
-        assert!(error <= 1e-5 * largest, "f32: {error:e} of {largest:e}");
+        assert_within_f32_round_off(&y, &narrow);
         let (mut largest, mut error) = (0.0_f64, 0.0_f64);
         for d in 0..dim {
             for b in 0..n {
@@ -679,5 +669,15 @@ mod tests {
             reference.shape,
             reference.order
         );
+    }
+
+    /// `single` (f32 sums) equals `double` to f32 round-off relative to its largest entry.
+    fn assert_within_f32_round_off(double: &[f64], single: &[f32]) {
+        let largest = double.iter().fold(0.0_f64, |m, v| m.max(v.abs()));
+        let error = double
+            .iter()
+            .zip(single)
+            .fold(0.0_f64, |e, (a, b)| e.max((a - f64::from(*b)).abs()));
+        assert!(error <= 1e-5 * largest, "f32: {error:e} of {largest:e}");
     }
 }
