@@ -179,33 +179,43 @@ pub fn associate_boundary(
             // Present: every open facet's vertices were collected above.
             &distances[open_vertices.binary_search(&v).unwrap_or(0)]
         };
-        for (facet, entity) in mesh.facets.iter().zip(facet_entity.iter_mut()) {
-            if entity.is_some() {
-                continue;
-            }
-            let mut best: Option<(f64, usize)> = None;
-            let reach =
-                tolerance.min(PROXIMITY_EDGE_FRACTION * shortest_edge(mesh, &facet.vertices));
-            let centre = centroid(mesh, &facet.vertices);
-            for (k, &e) in candidates.iter().enumerate() {
-                let worst = facet
-                    .vertices
-                    .iter()
-                    .map(|&v| row(v)[k])
-                    .fold(0.0, f64::max);
-                if worst > reach {
-                    continue;
+        // Facet by facet in parallel: each scores its candidates by a point inversion of
+        // its centre, independently of the others.
+        let nearest: Vec<Option<usize>> = mesh
+            .facets
+            .par_iter()
+            .zip(facet_entity.par_iter())
+            .map(|(facet, entity)| {
+                if entity.is_some() {
+                    return None;
                 }
-                // Vertices on the curve where two surfaces meet are on both; the facet's
-                // centre tells which one the facet spans, and its distance to the entity's
-                // bounded patch which of several faces on one infinite surface it is on
-                // (see the module doc).
-                let score = worst.max(geometry.entities[e].patch_distance(centre));
-                if best.is_none_or(|(d, _)| score < d) {
-                    best = Some((score, e));
+                let mut best: Option<(f64, usize)> = None;
+                let reach =
+                    tolerance.min(PROXIMITY_EDGE_FRACTION * shortest_edge(mesh, &facet.vertices));
+                let centre = centroid(mesh, &facet.vertices);
+                for (k, &e) in candidates.iter().enumerate() {
+                    let worst = facet
+                        .vertices
+                        .iter()
+                        .map(|&v| row(v)[k])
+                        .fold(0.0, f64::max);
+                    if worst > reach {
+                        continue;
+                    }
+                    // Vertices on the curve where two surfaces meet are on both; the facet's
+                    // centre tells which one the facet spans, and its distance to the entity's
+                    // bounded patch which of several faces on one infinite surface it is on
+                    // (see the module doc).
+                    let score = worst.max(geometry.entities[e].patch_distance(centre));
+                    if best.is_none_or(|(d, _)| score < d) {
+                        best = Some((score, e));
+                    }
                 }
-            }
-            if let Some((_, e)) = best {
+                best.map(|(_, e)| e)
+            })
+            .collect();
+        for (entity, nearest) in facet_entity.iter_mut().zip(nearest) {
+            if let Some(e) = nearest {
                 *entity = Some(e);
                 by_proximity += 1;
             }
