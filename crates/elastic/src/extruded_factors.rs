@@ -19,6 +19,7 @@
 
 use hocurve_nodes::{ReferenceElement, Shape};
 
+use crate::lanes::Lanes;
 use crate::matrix_free::CellReal;
 use crate::reference_element::ReferenceStiffness;
 
@@ -300,97 +301,87 @@ impl ExtrudedFactors {
 
     /// The weighted gradient modes of one cell: `modes[d stride + α m + j q_b + q]` =
     /// w ∂u_d/∂ξ_α at point (q, j), from `x[d n + b]` (m the rule's size, n the nodes).
-    /// B is the block of the precision's tables (4 in f64, 8 in f32).
+    /// V is one register of the precision's tables (4 f64, 8 f32).
     #[inline(always)]
-    pub(crate) fn gradients<T: CellReal, const D: usize, const B: usize>(
+    pub(crate) fn gradients<V: Lanes, const D: usize>(
         &self,
-        x: &[T],
+        x: &[V::Real],
         n: usize,
-        modes: &mut [T],
+        modes: &mut [V::Real],
         stride: usize,
-        scratch: &mut ExtrudedScratch<T>,
+        scratch: &mut ExtrudedScratch<V::Real>,
     ) {
         let (nb, nl, qb, ql) = (self.nb, self.nl, self.qb, self.ql);
-        let tables = T::extruded_tables(self);
-        assert_eq!(tables.block, B, "the tables' block");
+        let tables = <V::Real as CellReal>::extruded_tables(self);
+        let b = V::WIDTH;
+        assert_eq!(tables.block, b, "the tables' block");
         let qbp = tables.qb_padded;
         let m = qb * ql;
         // The nodes' values in base-node order, every component of one node side by side,
         // rounded up to whole blocks.
-        let span = (nb * D).div_ceil(B) * B;
+        let span = (nb * D).div_ceil(b) * b;
         let ExtrudedScratch { a, a_prime, v: xt } = scratch;
         // Xᵀ[l][t][d] = X_d(t, l) at `l span + t D + d`, zero beyond n_b D (read, not
         // written).
         zeroed(xt, nl * span);
         for t in 0..nb {
             for l in 0..nl {
-                let b = self.node[t * nl + l] as usize;
+                let node = self.node[t * nl + l] as usize;
                 for d in 0..D {
-                    xt[l * span + t * D + d] = x[d * n + b];
+                    xt[l * span + t * D + d] = x[d * n + node];
                 }
             }
         }
-        // A[j][t][d] = Σ_l ψ_l(ζ_j) Xᵀ[l][t][d], A′ with ψ′: B of (t, d) at a time.
+        // A[j][t][d] = Σ_l ψ_l(ζ_j) Xᵀ[l][t][d], A′ with ψ′: a register of (t, d) at a time.
         resized(a, ql * span);
         resized(a_prime, ql * span);
         for j in 0..ql {
-            for k0 in (0..span).step_by(B) {
-                let (mut s, mut s_prime) = ([T::default(); B], [T::default(); B]);
+            for k0 in (0..span).step_by(b) {
+                let (mut s, mut s_prime) = (V::zero(), V::zero());
                 for l in 0..nl {
-                    let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
-                    let xs = &xt[l * span + k0..][..B];
-                    for i in 0..B {
-                        s[i] += f * xs[i];
-                        s_prime[i] += g * xs[i];
-                    }
+                    let f = V::splat(tables.line_value[l * ql + j]);
+                    let g = V::splat(tables.line_deriv[l * ql + j]);
+                    let xs = V::load(&xt[l * span + k0..]);
+                    s = s.plus_product(f, xs);
+                    s_prime = s_prime.plus_product(g, xs);
                 }
-                a[j * span + k0..][..B].copy_from_slice(&s);
-                a_prime[j * span + k0..][..B].copy_from_slice(&s_prime);
+                s.store(&mut a[j * span + k0..]);
+                s_prime.store(&mut a_prime[j * span + k0..]);
             }
         }
         // U_d[α][(q, j)] = w Σ_t ∂_α φ_t(ξ̄_q) A[j][t][d] (α in the base), w Σ_t φ_t(ξ̄_q)
-        // A′[j][t][d] along the line: B points q of every component at a time, so that each
-        // table row loaded serves D sums and D² sums run independently.
-        let row = D * B;
+        // A′[j][t][d] along the line: a register of points q of every component at a time,
+        // so that each table row loaded serves D sums and D² sums run independently.
+        let row = D * b;
         for j in 0..ql {
             let at = &a[j * span..][..nb * D];
             let at_prime = &a_prime[j * span..][..nb * D];
             for (block, rows) in tables.by_point.chunks_exact(nb * row).enumerate() {
-                let q0 = block * B;
-                let mut acc = [[[T::default(); B]; D]; D];
-                for ((f, v), v_prime) in rows
-                    .chunks_exact(row)
-                    .zip(at.chunks_exact(D))
-                    .zip(at_prime.chunks_exact(D))
-                {
-                    let mut fs = [[T::default(); B]; D];
+                let q0 = block * b;
+                let mut acc = [[V::zero(); D]; D];
+                for (t, f) in rows.chunks_exact(row).enumerate() {
+                    // (Not `array::from_fn`: not always inlined, and a call spills every sum.)
+                    let mut fs = [V::zero(); D];
                     for (alpha, lanes) in fs.iter_mut().enumerate() {
-                        lanes.copy_from_slice(&f[alpha * B..][..B]);
+                        *lanes = V::load(&f[alpha * b..]);
                     }
                     for (d, acc_d) in acc.iter_mut().enumerate() {
-                        for (alpha, sums) in acc_d.iter_mut().enumerate().take(D - 1) {
-                            for i in 0..B {
-                                sums[i] += v[d] * fs[alpha][i];
-                            }
+                        let v = V::splat(at[t * D + d]);
+                        for alpha in 0..D - 1 {
+                            acc_d[alpha] = acc_d[alpha].plus_product(v, fs[alpha]);
                         }
-                        for i in 0..B {
-                            acc_d[D - 1][i] += v_prime[d] * fs[D - 1][i];
-                        }
+                        let v_prime = V::splat(at_prime[t * D + d]);
+                        acc_d[D - 1] = acc_d[D - 1].plus_product(v_prime, fs[D - 1]);
                     }
                 }
-                let w = &tables.weight[j * qbp + q0..][..B];
+                let w = V::load(&tables.weight[j * qbp + q0..]);
                 for (d, acc_d) in acc.iter().enumerate() {
                     for (alpha, sums) in acc_d.iter().enumerate() {
                         let out = &mut modes[d * stride + alpha * m + j * qb + q0..];
-                        if q0 + B <= qb {
-                            let out = &mut out[..B];
-                            for i in 0..B {
-                                out[i] = w[i] * sums[i];
-                            }
+                        if q0 + b <= qb {
+                            w.mul(*sums).store(out);
                         } else {
-                            for i in 0..qb - q0 {
-                                out[i] = w[i] * sums[i];
-                            }
+                            w.mul(*sums).store_first(out, qb - q0);
                         }
                     }
                 }
@@ -399,20 +390,21 @@ impl ExtrudedFactors {
     }
 
     /// The transpose: `y[d n_padded + b]` = Σ_(α, k) ∂_α Φ_b(k) `modes[d stride + α m + k]`,
-    /// the points k in the order of [`Self::points`] (unweighted); B as in
+    /// the points k in the order of [`Self::points`] (unweighted); V as in
     /// [`Self::gradients`].
     #[inline(always)]
-    pub(crate) fn transpose<T: CellReal, const D: usize, const B: usize>(
+    pub(crate) fn transpose<V: Lanes, const D: usize>(
         &self,
-        modes: &[T],
+        modes: &[V::Real],
         stride: usize,
-        y: &mut [T],
+        y: &mut [V::Real],
         n_padded: usize,
-        scratch: &mut ExtrudedScratch<T>,
+        scratch: &mut ExtrudedScratch<V::Real>,
     ) {
         let (nb, nl, qb, ql) = (self.nb, self.nl, self.qb, self.ql);
-        let tables = T::extruded_tables(self);
-        assert_eq!(tables.block, B, "the tables' block");
+        let tables = <V::Real as CellReal>::extruded_tables(self);
+        let b = V::WIDTH;
+        assert_eq!(tables.block, b, "the tables' block");
         let nbp = tables.nb_padded;
         let m = qb * ql;
         let ExtrudedScratch {
@@ -421,45 +413,41 @@ impl ExtrudedFactors {
             v: yt,
         } = scratch;
         // C[j][d][t] = Σ_q Σ_α ∂_α φ_t(ξ̄_q) V_d[α][(q, j)] (α in the base), C′[j][d][t] =
-        // Σ_q φ_t(ξ̄_q) V_d[last][(q, j)]: B nodes t of every component at a time.
+        // Σ_q φ_t(ξ̄_q) V_d[last][(q, j)]: a register of nodes t of every component at a
+        // time.
         resized(c, ql * D * nbp);
         resized(c_prime, ql * D * nbp);
-        let row = D * B;
+        let row = D * b;
         for j in 0..ql {
             // V_d[α][(·, j)].
-            let mut v: [[&[T]; D]; D] = [[&[]; D]; D];
+            let mut v: [[&[V::Real]; D]; D] = [[&[]; D]; D];
             for (d, v_d) in v.iter_mut().enumerate() {
                 for (alpha, v_da) in v_d.iter_mut().enumerate() {
                     *v_da = &modes[d * stride + alpha * m + j * qb..][..qb];
                 }
             }
             for (block, rows) in tables.by_node.chunks_exact(qb * row).enumerate() {
-                let t0 = block * B;
-                let mut s = [[T::default(); B]; D];
-                let mut s_prime = [[T::default(); B]; D];
+                let t0 = block * b;
+                let mut s = [V::zero(); D];
+                let mut s_prime = [V::zero(); D];
                 for (q, f) in rows.chunks_exact(row).enumerate().take(qb) {
-                    let mut fs = [[T::default(); B]; D];
+                    // (Not `array::from_fn`: not always inlined, and a call spills every sum.)
+                    let mut fs = [V::zero(); D];
                     for (alpha, lanes) in fs.iter_mut().enumerate() {
-                        lanes.copy_from_slice(&f[alpha * B..][..B]);
+                        *lanes = V::load(&f[alpha * b..]);
                     }
-                    for (alpha, f) in fs.iter().enumerate().take(D - 1) {
+                    for (alpha, &f) in fs.iter().enumerate().take(D - 1) {
                         for (d, sums) in s.iter_mut().enumerate() {
-                            let value = v[d][alpha][q];
-                            for i in 0..B {
-                                sums[i] += value * f[i];
-                            }
+                            *sums = sums.plus_product(V::splat(v[d][alpha][q]), f);
                         }
                     }
                     for (d, sums) in s_prime.iter_mut().enumerate() {
-                        let value = v[d][D - 1][q];
-                        for i in 0..B {
-                            sums[i] += value * fs[D - 1][i];
-                        }
+                        *sums = sums.plus_product(V::splat(v[d][D - 1][q]), fs[D - 1]);
                     }
                 }
                 for d in 0..D {
-                    c[(j * D + d) * nbp + t0..][..B].copy_from_slice(&s[d]);
-                    c_prime[(j * D + d) * nbp + t0..][..B].copy_from_slice(&s_prime[d]);
+                    s[d].store(&mut c[(j * D + d) * nbp + t0..]);
+                    s_prime[d].store(&mut c_prime[(j * D + d) * nbp + t0..]);
                 }
             }
         }
@@ -467,25 +455,24 @@ impl ExtrudedFactors {
         let span = D * nbp;
         resized(yt, nl * span);
         for l in 0..nl {
-            for k0 in (0..span).step_by(B) {
-                let mut s = [T::default(); B];
+            for k0 in (0..span).step_by(b) {
+                let mut s = V::zero();
                 for j in 0..ql {
-                    let (f, g) = (tables.line_value[l * ql + j], tables.line_deriv[l * ql + j]);
-                    let cs = &c[j * span + k0..][..B];
-                    let cps = &c_prime[j * span + k0..][..B];
-                    for i in 0..B {
-                        s[i] += f * cs[i] + g * cps[i];
-                    }
+                    let f = V::splat(tables.line_value[l * ql + j]);
+                    let g = V::splat(tables.line_deriv[l * ql + j]);
+                    let cs = V::load(&c[j * span + k0..]);
+                    let cps = V::load(&c_prime[j * span + k0..]);
+                    s = s.add(f.mul(cs).add(g.mul(cps)));
                 }
-                yt[l * span + k0..][..B].copy_from_slice(&s);
+                s.store(&mut yt[l * span + k0..]);
             }
         }
         // Y_d(t, l) into the cell's node order.
         for t in 0..nb {
             for l in 0..nl {
-                let b = self.node[t * nl + l] as usize;
+                let node = self.node[t * nl + l] as usize;
                 for d in 0..D {
-                    y[d * n_padded + b] = yt[l * span + d * nbp + t];
+                    y[d * n_padded + node] = yt[l * span + d * nbp + t];
                 }
             }
         }
@@ -535,6 +522,7 @@ impl ExtrudedFactors {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::lanes::Portable;
     use hocurve_nodes::NodeFamily;
 
     /// Every prism, hexahedron and quadrilateral node family in use is a tensor product, and
@@ -575,21 +563,21 @@ mod tests {
         let mut modes = vec![0.0; D * stride];
         let mut scratch = ExtrudedScratch::default();
         match dim {
-            2 => factors.gradients::<f64, 2, 4>(&x, n, &mut modes, stride, &mut scratch),
-            _ => factors.gradients::<f64, 3, 4>(&x, n, &mut modes, stride, &mut scratch),
+            2 => factors.gradients::<Portable<f64, 4>, 2>(&x, n, &mut modes, stride, &mut scratch),
+            _ => factors.gradients::<Portable<f64, 4>, 3>(&x, n, &mut modes, stride, &mut scratch),
         }
         // f32 (blocks of 8) to its round-off.
         let single: Vec<f32> = x.iter().map(|&v| v as f32).collect();
         let mut narrow = vec![0.0_f32; D * stride];
         match dim {
-            2 => factors.gradients::<f32, 2, 8>(
+            2 => factors.gradients::<Portable<f32, 8>, 2>(
                 &single,
                 n,
                 &mut narrow,
                 stride,
                 &mut Default::default(),
             ),
-            _ => factors.gradients::<f32, 3, 8>(
+            _ => factors.gradients::<Portable<f32, 8>, 3>(
                 &single,
                 n,
                 &mut narrow,
@@ -624,20 +612,20 @@ mod tests {
             .collect();
         let mut y = vec![0.0; D * n];
         match dim {
-            2 => factors.transpose::<f64, 2, 4>(&v, stride, &mut y, n, &mut scratch),
-            _ => factors.transpose::<f64, 3, 4>(&v, stride, &mut y, n, &mut scratch),
+            2 => factors.transpose::<Portable<f64, 4>, 2>(&v, stride, &mut y, n, &mut scratch),
+            _ => factors.transpose::<Portable<f64, 4>, 3>(&v, stride, &mut y, n, &mut scratch),
         }
         let single: Vec<f32> = v.iter().map(|&v| v as f32).collect();
         let mut narrow = vec![0.0_f32; D * n];
         match dim {
-            2 => factors.transpose::<f32, 2, 8>(
+            2 => factors.transpose::<Portable<f32, 8>, 2>(
                 &single,
                 stride,
                 &mut narrow,
                 n,
                 &mut Default::default(),
             ),
-            _ => factors.transpose::<f32, 3, 8>(
+            _ => factors.transpose::<Portable<f32, 8>, 3>(
                 &single,
                 stride,
                 &mut narrow,
@@ -679,5 +667,57 @@ mod tests {
             .zip(single)
             .fold(0.0_f64, |e, (a, b)| e.max((a - f64::from(*b)).abs()));
         assert!(error <= 1e-5 * largest, "f32: {error:e} of {largest:e}");
+    }
+
+    /// Timing of the factored sums alone, one cell's data in cache (run with `--ignored
+    /// --nocapture`, release, on a CPU with AVX2): ns per call of the gradients and the
+    /// transpose, f64 and f32, prisms and hexahedra p = 2..5. Against
+    /// `matrix_free::tests::extruded_action_timings` it tells what share of a cell action
+    /// the sums are.
+    #[test]
+    #[ignore]
+    #[cfg(target_arch = "x86_64")]
+    fn factored_sum_timings() {
+        use crate::lanes::{Avx2Double, Avx2Single};
+        assert!(std::arch::is_x86_feature_detected!("avx2"));
+        #[target_feature(enable = "avx2")]
+        fn time<V: Lanes>(factors: &ExtrudedFactors, n: usize, m: usize, reps: usize) -> [f64; 2] {
+            let stride = 3 * m;
+            let x: Vec<V::Real> = (0..3 * n)
+                .map(|i| V::Real::of(((i * 37 % 101) as f64) / 50.0 - 1.0))
+                .collect();
+            let (mut modes, mut y) = (
+                vec![V::Real::default(); 3 * stride],
+                vec![V::Real::default(); 3 * n],
+            );
+            let mut scratch = ExtrudedScratch::default();
+            let start = std::time::Instant::now();
+            for _ in 0..reps {
+                factors.gradients::<V, 3>(&x, n, &mut modes, stride, &mut scratch);
+                std::hint::black_box(&mut modes);
+            }
+            let gradients = start.elapsed().as_secs_f64();
+            let start = std::time::Instant::now();
+            for _ in 0..reps {
+                factors.transpose::<V, 3>(&modes, stride, &mut y, n, &mut scratch);
+                std::hint::black_box(&mut y);
+            }
+            [gradients, start.elapsed().as_secs_f64()].map(|t| 1e9 * t / reps as f64)
+        }
+        for order in 2..=5 {
+            for shape in [Shape::Prism, Shape::Hex] {
+                let reference = ReferenceStiffness::new(shape, order, NodeFamily::Fekete).unwrap();
+                let factors = ExtrudedFactors::new(&reference).unwrap();
+                let (n, m) = (reference.len, reference.stiffness_rule.len());
+                let reps = 200_000 / (order * order);
+                // SAFETY: the CPU has AVX2 (asserted above).
+                let [g64, t64] = unsafe { time::<Avx2Double>(&factors, n, m, reps) };
+                let [g32, t32] = unsafe { time::<Avx2Single>(&factors, n, m, reps) };
+                println!(
+                    "{shape:?} p = {order}: gradients f64 {g64:.0} f32 {g32:.0} ns, \
+                     transpose f64 {t64:.0} f32 {t32:.0} ns"
+                );
+            }
+        }
     }
 }

@@ -54,6 +54,7 @@ mod condensation;
 mod element_matrix;
 mod error_norm;
 mod extruded_factors;
+mod lanes;
 mod material;
 mod matrix_free;
 mod p_multigrid;

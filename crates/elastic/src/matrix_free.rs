@@ -19,7 +19,7 @@
 //! inverts ([`MatrixFreeStiffness::block_jacobi`]). The smoothers apply the operator with
 //! f32 cell products ([`SinglePrecision`]: eight lanes per AVX2 register instead of four;
 //! p = 6 sphere, 1 236 tets: CG iterations 0.88 → 0.62 s), CG itself in f64. The stresses
-//! of [`POINT_LANES`] modes are computed side by side ([`stress_modes`]), their J⁻¹ stored
+//! of a register of modes are computed side by side ([`stress_modes`]), their J⁻¹ stored
 //! component by component ([`ShapePart::point_geometry`]) where they vary by point.
 
 use std::sync::atomic::AtomicU64;
@@ -34,6 +34,9 @@ use crate::cell_runs::{add_to, prefetch, CellRuns, ReducedNodes, SharedSum};
 use crate::condensation::Constraints;
 use crate::element_matrix::invert_jacobian;
 use crate::extruded_factors::{ExtrudedFactors, ExtrudedScratch, FactorTables};
+#[cfg(target_arch = "x86_64")]
+use crate::lanes::{Avx2Double, Avx2Single};
+use crate::lanes::{Lanes, Portable};
 use crate::pcg::LinearOperator;
 use crate::reference_element::ReferenceStiffness;
 use crate::{ElasticError, Material};
@@ -59,8 +62,6 @@ const FACTORISED_FROM_ORDER: usize = 3;
 /// dim ∇P rather than a row per point: at p = 3 31.0 / 19.0 dense against 31.1 / 24.5, at
 /// p = 4 41.3 / 23.3 against 26.6 / 17.1.
 const AFFINE_FACTORISED_FROM_ORDER: usize = 4;
-/// Quadrature points (modes) whose stresses are computed side by side in the cell action.
-const POINT_LANES: usize = 8;
 /// How many of a run's nodes ahead the gathers and scatters prefetch.
 const PREFETCH_AHEAD: usize = 12;
 /// Outputs accumulated together in the cell action's two products: two AVX2 registers of
@@ -80,6 +81,9 @@ pub(crate) trait CellReal:
     + std::ops::AddAssign
     + 'static
 {
+    /// One register of this precision on any CPU, and with AVX2.
+    type Portable: Lanes<Real = Self>;
+    type Avx2: Lanes<Real = Self>;
     fn of(v: f64) -> Self;
     fn wide(self) -> f64;
     /// The reference factors in this precision.
@@ -93,6 +97,11 @@ pub(crate) trait CellReal:
 }
 
 impl CellReal for f64 {
+    type Portable = Portable<f64, 4>;
+    #[cfg(target_arch = "x86_64")]
+    type Avx2 = Avx2Double;
+    #[cfg(not(target_arch = "x86_64"))]
+    type Avx2 = Portable<f64, 4>;
     #[inline(always)]
     fn of(v: f64) -> Self {
         v
@@ -120,6 +129,11 @@ impl CellReal for f64 {
 }
 
 impl CellReal for f32 {
+    type Portable = Portable<f32, 8>;
+    #[cfg(target_arch = "x86_64")]
+    type Avx2 = Avx2Single;
+    #[cfg(not(target_arch = "x86_64"))]
+    type Avx2 = Portable<f32, 8>;
     #[inline(always)]
     fn of(v: f64) -> Self {
         v as f32
@@ -659,7 +673,7 @@ impl MatrixFreeStiffness {
             unsafe { self.cell_action_avx2::<T, L>(part, c, scratch) };
             return;
         }
-        self.cell_action_body::<T, L>(part, c, scratch);
+        self.cell_action_body::<T, L, false>(part, c, scratch);
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -670,28 +684,35 @@ impl MatrixFreeStiffness {
         c: usize,
         scratch: &mut CellScratch<T>,
     ) {
-        self.cell_action_body::<T, L>(part, c, scratch);
+        self.cell_action_body::<T, L, true>(part, c, scratch);
     }
 
     #[inline(always)]
-    fn cell_action_body<T: CellReal, const L: usize>(
+    fn cell_action_body<T: CellReal, const L: usize, const AVX2: bool>(
         &self,
         part: &ShapePart,
         c: usize,
         scratch: &mut CellScratch<T>,
     ) {
         match (self.dim, part.reference.per_point) {
-            (2, false) => self.cell_action_in::<T, L, 2, false>(part, c, scratch),
-            (2, true) => self.cell_action_in::<T, L, 2, true>(part, c, scratch),
-            (_, false) => self.cell_action_in::<T, L, 3, false>(part, c, scratch),
-            (_, true) => self.cell_action_in::<T, L, 3, true>(part, c, scratch),
+            (2, false) => self.cell_action_in::<T, L, 2, false, AVX2>(part, c, scratch),
+            (2, true) => self.cell_action_in::<T, L, 2, true, AVX2>(part, c, scratch),
+            (_, false) => self.cell_action_in::<T, L, 3, false, AVX2>(part, c, scratch),
+            (_, true) => self.cell_action_in::<T, L, 3, true, AVX2>(part, c, scratch),
         }
     }
 
     /// The cell action in dimension D (a constant, so that the accumulators stay in
-    /// registers), with one J⁻¹ per mode when PER_POINT.
+    /// registers), with one J⁻¹ per mode when PER_POINT, the factored sums and the stresses
+    /// on AVX registers when AVX2 (only inside [`Self::cell_action_avx2`]).
     #[inline(always)]
-    fn cell_action_in<T: CellReal, const L: usize, const D: usize, const PER_POINT: bool>(
+    fn cell_action_in<
+        T: CellReal,
+        const L: usize,
+        const D: usize,
+        const PER_POINT: bool,
+        const AVX2: bool,
+    >(
         &self,
         part: &ShapePart,
         c: usize,
@@ -709,35 +730,46 @@ impl MatrixFreeStiffness {
             extruded,
             ..
         } = scratch;
+        if PER_POINT {
+            // The next cell's geometry (kilobytes per cell, read in ten interleaved rows
+            // that the hardware prefetcher follows poorly): asked for now, there by then.
+            let geometry = T::point_geometry(part);
+            let next = (c + 1) * 10 * m;
+            for i in (next..next + 10 * m).step_by(64 / size_of::<T>()) {
+                prefetch(geometry, i);
+            }
+        }
         // U_d[α m + k] = Σ_b R_α[k][b] X_d[b], LANES of (α, k) at a time, or sum-factorised.
         modes.resize(D * rows_padded, T::default());
         match &part.extruded {
             // One register of outputs: 8 in f32, 4 in f64.
-            Some(factors) if size_of::<T>() == 4 => {
-                factors.gradients::<T, D, 8>(x, n, modes, rows_padded, extruded)
+            Some(factors) if AVX2 => {
+                factors.gradients::<T::Avx2, D>(x, n, modes, rows_padded, extruded)
             }
-            Some(factors) => factors.gradients::<T, D, 4>(x, n, modes, rows_padded, extruded),
+            Some(factors) => {
+                factors.gradients::<T::Portable, D>(x, n, modes, rows_padded, extruded)
+            }
             None => lane_products::<T, D, L>(&lanes.transposed, x, n, n, modes, rows_padded),
         }
-        // Per mode: ∇u[d][c] = ∂u_d/∂x_c, the stress, and back to reference directions,
-        // POINT_LANES modes at a time, then the rest one by one.
-        let whole = m / POINT_LANES * POINT_LANES;
-        for k0 in (0..whole).step_by(POINT_LANES) {
-            let g = mode_geometry::<T, POINT_LANES, PER_POINT>(part, c, m, k0);
-            stress_modes::<T, D, POINT_LANES>(modes, rows_padded, m, k0, &g, lambda, mu);
-        }
-        for k in whole..m {
-            let g = mode_geometry::<T, 1, PER_POINT>(part, c, m, k);
-            stress_modes::<T, D, 1>(modes, rows_padded, m, k, &g, lambda, mu);
+        // Per mode: ∇u[d][c] = ∂u_d/∂x_c, the stress, and back to reference directions.
+        let cell = if PER_POINT {
+            &T::point_geometry(part)[c * 10 * m..][..10 * m]
+        } else {
+            &T::geometry(part)[c][..]
+        };
+        if AVX2 {
+            cell_stresses::<T::Avx2, D, PER_POINT>(modes, rows_padded, m, cell, lambda, mu);
+        } else {
+            cell_stresses::<T::Portable, D, PER_POINT>(modes, rows_padded, m, cell, lambda, mu);
         }
         // Y_d[b] = Σ_(α, k) R_α[k][b] V_d[α m + k], LANES of b at a time.
         y.resize(D * n_padded, T::default());
         match &part.extruded {
-            Some(factors) if size_of::<T>() == 4 => {
-                factors.transpose::<T, D, 8>(modes, rows_padded, y, n_padded, extruded)
+            Some(factors) if AVX2 => {
+                factors.transpose::<T::Avx2, D>(modes, rows_padded, y, n_padded, extruded)
             }
             Some(factors) => {
-                factors.transpose::<T, D, 4>(modes, rows_padded, y, n_padded, extruded)
+                factors.transpose::<T::Portable, D>(modes, rows_padded, y, n_padded, extruded)
             }
             None => lane_products::<T, D, L>(&lanes.factors, modes, rows_padded, rows, y, n_padded),
         }
@@ -964,85 +996,88 @@ struct CellScratch<T> {
     extruded: ExtrudedScratch<T>,
 }
 
-/// J⁻¹ and |det J| (component j at `[j]`) of modes k0..k0 + B of the cell at position c of
-/// `part`: one per point (PER_POINT), or the cell's repeated.
+/// The stresses of every mode of a cell (see [`stress_modes`]): a register of modes at a
+/// time, then the rest one by one. `cell` holds the cell's J⁻¹ and |det J|: per point
+/// (component j of mode k at `j m + k`) when PER_POINT, else once (`[j]`).
 #[inline(always)]
-fn mode_geometry<T: CellReal, const B: usize, const PER_POINT: bool>(
-    part: &ShapePart,
-    c: usize,
+fn cell_stresses<V: Lanes, const D: usize, const PER_POINT: bool>(
+    modes: &mut [V::Real],
+    rows_padded: usize,
     m: usize,
-    k0: usize,
-) -> [[T; B]; 10] {
-    let mut g = [[T::default(); B]; 10];
-    if PER_POINT {
-        let cell = &T::point_geometry(part)[c * 10 * m..][..10 * m];
-        for (j, lanes) in g.iter_mut().enumerate() {
-            lanes.copy_from_slice(&cell[j * m + k0..][..B]);
-        }
-    } else {
-        let cell = &T::geometry(part)[c];
-        for (lanes, &v) in g.iter_mut().zip(cell) {
-            *lanes = [v; B];
-        }
+    cell: &[V::Real],
+    lambda: V::Real,
+    mu: V::Real,
+) {
+    let whole = m / V::WIDTH * V::WIDTH;
+    for k0 in (0..whole).step_by(V::WIDTH) {
+        stress_modes::<V, D, PER_POINT>(modes, rows_padded, m, k0, cell, lambda, mu);
     }
-    g
+    for k in whole..m {
+        stress_modes::<Portable<V::Real, 1>, D, PER_POINT>(
+            modes,
+            rows_padded,
+            m,
+            k,
+            cell,
+            lambda,
+            mu,
+        );
+    }
 }
 
-/// Modes k0..k0 + B of a cell action (module documentation), in place: from the reference
-/// gradients U_d[α m + k] (`modes[d rows_padded + α m + k]`) to ∇u = Σ_α U_α ⊗ J⁻¹_α, the
-/// stress σ = |det J| (λ tr(∇u) I + μ (∇u + ∇uᵀ)), and σ J⁻ᵀ. The same operations on each
-/// lane as on one mode at a time (B = 1), so the same bits; B lanes of one component side
-/// by side let them run in vector registers.
+/// Modes k0..k0 + V::WIDTH of a cell action (module documentation), in place: from the
+/// reference gradients U_d[α m + k] (`modes[d rows_padded + α m + k]`) to ∇u = Σ_α U_α ⊗
+/// J⁻¹_α, the stress σ = |det J| (λ tr(∇u) I + μ (∇u + ∇uᵀ)), and σ J⁻ᵀ; `cell` as in
+/// [`cell_stresses`]. The same operations on each lane as on one mode at a time, so the
+/// same bits whatever the register.
 #[inline(always)]
-fn stress_modes<T: CellReal, const D: usize, const B: usize>(
-    modes: &mut [T],
+fn stress_modes<V: Lanes, const D: usize, const PER_POINT: bool>(
+    modes: &mut [V::Real],
     rows_padded: usize,
     m: usize,
     k0: usize,
-    g: &[[T; B]; 10],
-    lambda: T,
-    mu: T,
+    cell: &[V::Real],
+    lambda: V::Real,
+    mu: V::Real,
 ) {
-    let mut grad = [[[T::default(); B]; 3]; 3];
+    // Component j of J⁻¹ (j = 3 α + c) and |det J| (j = 9), read where used rather than
+    // copied: ten registers more would not fit beside the sums.
+    let g = |j: usize| {
+        if PER_POINT {
+            V::load(&cell[j * m + k0..])
+        } else {
+            V::splat(cell[j])
+        }
+    };
+    let mut grad = [[V::zero(); 3]; 3];
     for alpha in 0..D {
         for (d, grad_d) in grad.iter_mut().enumerate().take(D) {
-            let u = &modes[d * rows_padded + alpha * m + k0..][..B];
+            let u = V::load(&modes[d * rows_padded + alpha * m + k0..]);
             for (cc, sums) in grad_d.iter_mut().enumerate().take(D) {
-                let inv = &g[3 * alpha + cc];
-                for i in 0..B {
-                    sums[i] += u[i] * inv[i];
-                }
+                *sums = sums.plus_product(u, g(3 * alpha + cc));
             }
         }
     }
     let mut trace = grad[0][0];
     for (d, row) in grad.iter().enumerate().take(D).skip(1) {
-        for i in 0..B {
-            trace[i] += row[d][i];
-        }
+        trace = trace.add(row[d]);
     }
-    let w = &g[9];
-    let mut stress = [[[T::default(); B]; 3]; 3];
+    let w = g(9);
+    let (w_mu, w_lambda) = (w.mul(V::splat(mu)), w.mul(V::splat(lambda)));
+    let mut stress = [[V::zero(); 3]; 3];
     for d in 0..D {
         for cc in 0..D {
-            for i in 0..B {
-                stress[d][cc][i] = w[i] * mu * (grad[d][cc][i] + grad[cc][d][i]);
-            }
+            stress[d][cc] = w_mu.mul(grad[d][cc].add(grad[cc][d]));
         }
-        for i in 0..B {
-            stress[d][d][i] += w[i] * lambda * trace[i];
-        }
+        stress[d][d] = stress[d][d].plus_product(w_lambda, trace);
     }
     for alpha in 0..D {
         for (d, stress_d) in stress.iter().enumerate().take(D) {
-            let out = &mut modes[d * rows_padded + alpha * m + k0..][..B];
-            for i in 0..B {
-                let mut v = stress_d[0][i] * g[3 * alpha][i];
-                for (cc, s) in stress_d.iter().enumerate().take(D).skip(1) {
-                    v += s[i] * g[3 * alpha + cc][i];
-                }
-                out[i] = v;
+            let mut v = stress_d[0].mul(g(3 * alpha));
+            for (cc, s) in stress_d.iter().enumerate().take(D).skip(1) {
+                v = v.plus_product(*s, g(3 * alpha + cc));
             }
+            v.store(&mut modes[d * rows_padded + alpha * m + k0..]);
         }
     }
 }

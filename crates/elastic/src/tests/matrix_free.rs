@@ -246,19 +246,35 @@ fn curved_simplices_are_left_to_the_assembled_matrix() {
     assert!(!MatrixFreeStiffness::applies(&mesh));
 }
 
+/// CG's f64 action: the same bits with and without AVX2, on the dense path (tetrahedra)
+/// and the sum-factorised one (curved prisms and hexahedra, quadrilaterals), affine cells and
+/// cells with a Jacobian per point.
 #[test]
 fn the_avx2_action_has_the_bits_of_the_portable_one() {
-    let (mesh, constraints, stiffening) = system(&crate::p_multigrid::tests::tet_cube(2), 4);
-    let mut operator =
-        MatrixFreeStiffness::new(&mesh, &Material::default(), Some(&stiffening), &constraints)
-            .unwrap();
-    let x = pseudo_random(constraints.len());
-    let mut fast = vec![0.0; x.len()];
-    operator.apply(&x, &mut fast);
-    operator.avx2 = false;
-    let mut portable = vec![0.0; x.len()];
-    operator.apply(&x, &mut portable);
-    assert_eq!(fast, portable);
+    for (linear, p) in [
+        (crate::p_multigrid::tests::tet_cube(2), 4),
+        (
+            hocurve_testmeshes::unit_cube(2, hocurve_testmeshes::Fill::HexPrism, 0.2),
+            3,
+        ),
+        (
+            hocurve_testmeshes::unit_cube(1, hocurve_testmeshes::Fill::HexPrism, 0.2),
+            5,
+        ),
+        (hocurve_testmeshes::unit_square(3, Shape::Quad, 0.2), 4),
+    ] {
+        let (mesh, constraints, stiffening) = system(&linear, p);
+        let mut operator =
+            MatrixFreeStiffness::new(&mesh, &Material::default(), Some(&stiffening), &constraints)
+                .unwrap();
+        let x = pseudo_random(constraints.len());
+        let mut fast = vec![0.0; x.len()];
+        operator.apply(&x, &mut fast);
+        operator.avx2 = false;
+        let mut portable = vec![0.0; x.len()];
+        operator.apply(&x, &mut portable);
+        assert_eq!(fast, portable, "p = {p}");
+    }
 }
 
 /// Prisms whose top triangle is a translate of the bottom one (extruded meshes) have a

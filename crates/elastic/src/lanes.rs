@@ -1,0 +1,165 @@
+//! One vector register of a cell action's sums: a few numbers side by side, multiplied and
+//! added lane by lane. The sum-factorised kernels ([`crate::extruded_factors`]) are written
+//! on these rather than on arrays because LLVM's vectoriser, left to itself, shuffled their
+//! f32 sums through blends and stack spills (the f32 gradients ran no faster than the f64
+//! ones). A product and a sum are always two operations, never one fused multiply-add, so
+//! [`Portable`] (plain arrays, any CPU) and the AVX registers give the same bits.
+
+use crate::matrix_free::CellReal;
+
+/// `WIDTH` numbers of type `Real` side by side.
+pub(crate) trait Lanes: Copy {
+    type Real: CellReal;
+    const WIDTH: usize;
+    /// Every lane 0.
+    fn zero() -> Self;
+    /// Every lane `v`.
+    fn splat(v: Self::Real) -> Self;
+    /// `from[..WIDTH]`.
+    fn load(from: &[Self::Real]) -> Self;
+    /// Into `to[..WIDTH]`.
+    fn store(self, to: &mut [Self::Real]);
+    /// Lane by lane.
+    fn mul(self, other: Self) -> Self;
+    fn add(self, other: Self) -> Self;
+    /// self + a b, lane by lane: the product rounded, then the sum.
+    #[inline(always)]
+    fn plus_product(self, a: Self, b: Self) -> Self {
+        self.add(a.mul(b))
+    }
+    /// The first `len` lanes into `to[..len]` (`len` ≤ WIDTH ≤ 8).
+    #[inline(always)]
+    fn store_first(self, to: &mut [Self::Real], len: usize) {
+        let mut all = [Self::Real::default(); 8];
+        self.store(&mut all);
+        to[..len].copy_from_slice(&all[..len]);
+    }
+}
+
+/// B lanes as an array: what any CPU runs.
+#[derive(Clone, Copy)]
+pub(crate) struct Portable<T, const B: usize>([T; B]);
+
+impl<T: CellReal, const B: usize> Lanes for Portable<T, B> {
+    type Real = T;
+    const WIDTH: usize = B;
+    #[inline(always)]
+    fn zero() -> Self {
+        Portable([T::default(); B])
+    }
+    #[inline(always)]
+    fn splat(v: T) -> Self {
+        Portable([v; B])
+    }
+    #[inline(always)]
+    fn load(from: &[T]) -> Self {
+        let mut lanes = [T::default(); B];
+        lanes.copy_from_slice(&from[..B]);
+        Portable(lanes)
+    }
+    #[inline(always)]
+    fn store(self, to: &mut [T]) {
+        to[..B].copy_from_slice(&self.0);
+    }
+    #[inline(always)]
+    fn mul(self, other: Self) -> Self {
+        let mut lanes = self.0;
+        for (a, b) in lanes.iter_mut().zip(other.0) {
+            *a = *a * b;
+        }
+        Portable(lanes)
+    }
+    #[inline(always)]
+    fn add(self, other: Self) -> Self {
+        let mut lanes = self.0;
+        for (a, b) in lanes.iter_mut().zip(other.0) {
+            *a += b;
+        }
+        Portable(lanes)
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+pub(crate) use avx::{Avx2Double, Avx2Single};
+
+/// The AVX registers. Values of these types are made only inside
+/// `MatrixFreeStiffness::cell_action_avx2` (and the tests, after the same check), which
+/// runs only where the CPU reports AVX2: that is what makes the intrinsics' calls sound.
+#[cfg(target_arch = "x86_64")]
+mod avx {
+    use std::arch::x86_64::*;
+
+    use super::Lanes;
+
+    /// Four f64 in one AVX register.
+    #[derive(Clone, Copy)]
+    pub(crate) struct Avx2Double(__m256d);
+
+    /// Eight f32 in one AVX register.
+    #[derive(Clone, Copy)]
+    pub(crate) struct Avx2Single(__m256);
+
+    // SAFETY (every block below): the CPU has AVX (see the module documentation); loads and
+    // stores check their slice's length first.
+    impl Lanes for Avx2Double {
+        type Real = f64;
+        const WIDTH: usize = 4;
+        #[inline(always)]
+        fn zero() -> Self {
+            Avx2Double(unsafe { _mm256_setzero_pd() })
+        }
+        #[inline(always)]
+        fn splat(v: f64) -> Self {
+            Avx2Double(unsafe { _mm256_set1_pd(v) })
+        }
+        #[inline(always)]
+        fn load(from: &[f64]) -> Self {
+            let from = &from[..4];
+            Avx2Double(unsafe { _mm256_loadu_pd(from.as_ptr()) })
+        }
+        #[inline(always)]
+        fn store(self, to: &mut [f64]) {
+            let to = &mut to[..4];
+            unsafe { _mm256_storeu_pd(to.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
+        fn mul(self, other: Self) -> Self {
+            Avx2Double(unsafe { _mm256_mul_pd(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn add(self, other: Self) -> Self {
+            Avx2Double(unsafe { _mm256_add_pd(self.0, other.0) })
+        }
+    }
+
+    impl Lanes for Avx2Single {
+        type Real = f32;
+        const WIDTH: usize = 8;
+        #[inline(always)]
+        fn zero() -> Self {
+            Avx2Single(unsafe { _mm256_setzero_ps() })
+        }
+        #[inline(always)]
+        fn splat(v: f32) -> Self {
+            Avx2Single(unsafe { _mm256_set1_ps(v) })
+        }
+        #[inline(always)]
+        fn load(from: &[f32]) -> Self {
+            let from = &from[..8];
+            Avx2Single(unsafe { _mm256_loadu_ps(from.as_ptr()) })
+        }
+        #[inline(always)]
+        fn store(self, to: &mut [f32]) {
+            let to = &mut to[..8];
+            unsafe { _mm256_storeu_ps(to.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
+        fn mul(self, other: Self) -> Self {
+            Avx2Single(unsafe { _mm256_mul_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn add(self, other: Self) -> Self {
+            Avx2Single(unsafe { _mm256_add_ps(self.0, other.0) })
+        }
+    }
+}
