@@ -11,7 +11,8 @@ use hocurve_elastic::{
     BoundaryConditions, ElasticSolution, SolverKind, SolverOptions,
 };
 use hocurve_geodesic::{
-    place_boundary_nodes_with, project_nodes_onto_geometry, GeometryDistance, PlacementOptions,
+    place_boundary_nodes_reusing, project_nodes_onto_geometry, FeatureTraces, GeometryDistance,
+    PlacementOptions,
 };
 use hocurve_mesh::{HighOrderMesh, LinearMesh};
 use hocurve_nodes::NodeFamily;
@@ -55,13 +56,14 @@ fn solver_options(options: &SolverOptions, mesh: &HighOrderMesh) -> SolverOption
     options
 }
 
-/// Where an [`Attempt`]'s boundary nodes come from.
-pub(crate) enum Boundary<'a> {
-    /// Placed on the geometry with these options.
+/// Where an [`Attempt`]'s boundary nodes come from (`'g` the geometry's lifetime).
+pub(crate) enum Boundary<'a, 'g> {
+    /// Placed on the geometry with these options, feature curves reused from `traces`.
     Place {
-        geometry: Geometry<'a>,
+        geometry: Geometry<'g>,
         association: &'a hocurve_geodesic::BoundaryAssociation,
         placement: &'a PlacementOptions,
+        traces: &'a FeatureTraces<'g>,
     },
     /// Placed already (by an earlier attempt); the solid stiffened cell by cell, CG started
     /// from `initial` (the earlier attempt's [`Attempt::solved_displacement`]) unless empty.
@@ -141,7 +143,7 @@ impl Attempt {
     /// (Sect. 4.3) unless `boundary_only`.
     pub(crate) fn curved(
         straight: &HighOrderMesh,
-        boundary: Boundary<'_>,
+        boundary: Boundary<'_, '_>,
         options: &CurveOptions,
         progress: &mut dyn FnMut(Progress),
         timings: &mut StepTimings,
@@ -152,11 +154,17 @@ impl Attempt {
                 geometry,
                 association,
                 placement,
+                traces,
             } => {
                 progress(Progress::Step(Step::BoundaryNodes));
                 let t = Instant::now();
-                let targets =
-                    place_boundary_nodes_with(straight, geometry.model, association, placement)?;
+                let targets = place_boundary_nodes_reusing(
+                    straight,
+                    geometry.model,
+                    association,
+                    placement,
+                    traces,
+                )?;
                 timings.boundary_nodes += t.elapsed().as_secs_f64();
                 let layered = options.layer_stiffening
                     && !options.boundary_only
@@ -452,7 +460,7 @@ pub(crate) fn curve_and_certify(
     linear: &LinearMesh,
     straight: &HighOrderMesh,
     geometry: Option<Geometry>,
-    boundary: Option<Boundary<'_>>,
+    boundary: Option<Boundary<'_, '_>>,
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
     timings: &mut StepTimings,

@@ -19,7 +19,9 @@ use std::time::Instant;
 use hocurve_elastic::{ElasticError, Material, SolverOptions};
 
 pub use crate::active_region::SolveRegion;
-use hocurve_geodesic::{associate_boundary, AssociationRule, GeodesicError, PlacementOptions};
+use hocurve_geodesic::{
+    associate_boundary, AssociationRule, FeatureTraces, GeodesicError, PlacementOptions,
+};
 use hocurve_mesh::{HighOrderMesh, LinearMesh, MeshError};
 use hocurve_nodes::{NodeFamily, NodesError};
 use hocurve_nurbs::GeometryModel;
@@ -248,7 +250,16 @@ pub fn curve_mesh(
 ) -> Result<CurvedMesh, CurveError> {
     // Before the association, whose "nothing on the geometry" would hide the reason.
     linear.check_planar()?;
-    refine_and_curve(linear, geometry, options, progress, REFINEMENT_ROUNDS)
+    // Every placement of the run (each round's, with and without corrections) on one model.
+    let traces = FeatureTraces::default();
+    refine_and_curve(
+        linear,
+        geometry,
+        options,
+        progress,
+        REFINEMENT_ROUNDS,
+        &traces,
+    )
 }
 
 /// [`curve_mesh`] with `rounds` rounds of refinement left. When every element left
@@ -257,12 +268,13 @@ pub fn curve_mesh(
 /// can cost a hundred (a coarse ellipsoid at p = 4: 21 s of untangling that failed, then
 /// 0.5 s to curve the split mesh). Only if the split mesh does not certify is the input
 /// mesh untangled after all.
-fn refine_and_curve(
+fn refine_and_curve<'g>(
     linear: &LinearMesh,
-    geometry: Option<Geometry>,
+    geometry: Option<Geometry<'g>>,
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
     rounds: usize,
+    traces: &FeatureTraces<'g>,
 ) -> Result<CurvedMesh, CurveError> {
     let start = Instant::now();
     let refining = geometry.is_some()
@@ -285,40 +297,46 @@ fn refine_and_curve(
             .fold(f64::INFINITY, f64::min);
         (crate::repair::not_certified(q).len(), -minimum)
     };
-    let mut curved =
-        match curve_mesh_once(linear, geometry, options, progress, refining && rounds > 0)? {
-            Once::Curved(curved) => *curved,
-            Once::Deferred(deferred) => {
-                let (split, count, facet_count) =
-                    split_for_refinement(&deferred.base, geometry, options, &deferred.cells)?;
-                progress(Progress::Step(Step::Refinement));
-                // (A split mesh that cannot be curved: the input's own repair below.)
-                let again = refine_and_curve(&split, geometry, options, progress, rounds - 1)
-                    .ok()
-                    .filter(|again| crate::repair::not_certified(&again.quality).is_empty());
-                if let Some(mut again) = again {
-                    let r = &mut again.report;
-                    r.edges_split += deferred.edges_split + count;
-                    r.facet_edges_split += facet_count;
-                    r.quadrilaterals_split += deferred.quadrilaterals_split;
-                    r.surface_edges_split += deferred.surface_edges_split;
-                    r.unused_node_tags = deferred.unused_node_tags;
-                    r.timings.repair += deferred.seconds;
-                    r.refinement_rounds += 1;
-                    r.refined_elements = deferred.cells.len();
-                    r.timings.total = start.elapsed().as_secs_f64();
-                    if again.split_input.is_none() {
-                        again.split_input = Some(split);
-                    }
-                    return Ok(again);
+    let mut curved = match curve_mesh_once(
+        linear,
+        geometry,
+        options,
+        progress,
+        refining && rounds > 0,
+        traces,
+    )? {
+        Once::Curved(curved) => *curved,
+        Once::Deferred(deferred) => {
+            let (split, count, facet_count) =
+                split_for_refinement(&deferred.base, geometry, options, &deferred.cells)?;
+            progress(Progress::Step(Step::Refinement));
+            // (A split mesh that cannot be curved: the input's own repair below.)
+            let again = refine_and_curve(&split, geometry, options, progress, rounds - 1, traces)
+                .ok()
+                .filter(|again| crate::repair::not_certified(&again.quality).is_empty());
+            if let Some(mut again) = again {
+                let r = &mut again.report;
+                r.edges_split += deferred.edges_split + count;
+                r.facet_edges_split += facet_count;
+                r.quadrilaterals_split += deferred.quadrilaterals_split;
+                r.surface_edges_split += deferred.surface_edges_split;
+                r.unused_node_tags = deferred.unused_node_tags;
+                r.timings.repair += deferred.seconds;
+                r.refinement_rounds += 1;
+                r.refined_elements = deferred.cells.len();
+                r.timings.total = start.elapsed().as_secs_f64();
+                if again.split_input.is_none() {
+                    again.split_input = Some(split);
                 }
-                // The split mesh does not certify either: the input's own repair after all.
-                match curve_mesh_once(linear, geometry, options, progress, false)? {
-                    Once::Curved(curved) => *curved,
-                    Once::Deferred(_) => unreachable!("nothing is deferred when not asked"),
-                }
+                return Ok(again);
             }
-        };
+            // The split mesh does not certify either: the input's own repair after all.
+            match curve_mesh_once(linear, geometry, options, progress, false, traces)? {
+                Once::Curved(curved) => *curved,
+                Once::Deferred(_) => unreachable!("nothing is deferred when not asked"),
+            }
+        }
+    };
     for _ in 0..rounds {
         let failing = poor(&curved.quality);
         if !refining || failing.is_empty() {
@@ -331,7 +349,7 @@ fn refine_and_curve(
         }
         progress(Progress::Step(Step::Refinement));
         // A split mesh that cannot be curved leaves the result as it was.
-        let again = match curve_mesh_once(&split, geometry, options, progress, false) {
+        let again = match curve_mesh_once(&split, geometry, options, progress, false, traces) {
             Ok(Once::Curved(again)) => again,
             Ok(Once::Deferred(_)) => unreachable!("nothing is deferred when not asked"),
             Err(_) => break,
@@ -459,12 +477,13 @@ struct Deferred {
 /// [`curve_mesh`] without the refinement of elements no repair certified; when `defer`, it
 /// stops before the untangling if every element not certified after the solve has a chord
 /// ([`crate::precurving::longest_chords`]).
-fn curve_mesh_once(
+fn curve_mesh_once<'g>(
     linear: &LinearMesh,
-    geometry: Option<Geometry>,
+    geometry: Option<Geometry<'g>>,
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
     defer: bool,
+    traces: &FeatureTraces<'g>,
 ) -> Result<Once, CurveError> {
     let start = Instant::now();
     let mut timings = StepTimings::default();
@@ -561,6 +580,7 @@ fn curve_mesh_once(
                 geometry: *geometry,
                 association,
                 placement,
+                traces,
             });
         curve_and_certify(
             linear, &straight, geometry, boundary, options, progress, timings,

@@ -6,6 +6,7 @@ use hocurve_nurbs::arc_length::{arc_length, parameter_at_length_fraction};
 use hocurve_nurbs::NurbsCurve;
 
 /// A piece of a NURBS curve from `from` to `to`, the short way round if the curve is closed.
+#[derive(Debug, Clone)]
 pub(crate) struct CurveArc<'a> {
     curve: &'a NurbsCurve,
     from: f64,

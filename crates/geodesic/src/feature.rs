@@ -18,6 +18,9 @@
 //! foot point there, by Newton's method on the two tangent planes and the curve's normal
 //! plane), so it lies on each of them to round-off.
 
+use std::collections::HashMap;
+use std::sync::Mutex;
+
 use hocurve_nurbs::inversion::closest_point_on_curve;
 #[cfg(test)]
 use hocurve_nurbs::inversion::closest_point_on_surface;
@@ -52,6 +55,7 @@ const SEAM_GAP: f64 = 1e-6;
 const ON_SURFACE: f64 = 1e-10;
 
 /// The curve carrying a feature edge, from its first vertex to its second.
+#[derive(Debug, Clone)]
 pub(crate) struct FeatureCurve<'a> {
     geometry: &'a GeometryModel,
     surfaces: Vec<usize>,
@@ -67,6 +71,80 @@ pub(crate) struct FeatureCurve<'a> {
     explicit: Option<(usize, CurveArc<'a>)>,
     /// The model's size (the scale of round-off in lengths).
     size: f64,
+}
+
+/// Feature curves already traced on one model, for reuse: the curving pipeline places
+/// boundary nodes several times on one model (with and without the minimum-angle
+/// corrections, and again in each round of repair, on a mesh whose edges are mostly the
+/// same), and a trace is a pure function of its surfaces, end points and tolerance, so a
+/// reused one is the curve that tracing again would give, bit for bit. A curve of another
+/// model is never returned (the model is compared by address).
+/// Beyond [`KEPT_TRACE_POINTS`] traced points (~64 bytes each with their parameters and
+/// lengths) no more curves are kept: memory is not traded for time without bound.
+#[derive(Debug, Default)]
+pub struct FeatureTraces<'a> {
+    curves: Mutex<HashMap<TraceKey, FeatureCurve<'a>>>,
+    points: std::sync::atomic::AtomicUsize,
+}
+
+/// At most this many traced points are kept by [`FeatureTraces`] (~256 MB). A STEP assembly
+/// of 85 k tets (as1_pe_203) keeps 1.3 M at p = 2.
+pub const KEPT_TRACE_POINTS: usize = 1 << 22;
+
+/// Surfaces, the two end points' and the tolerance's bits.
+type TraceKey = (Vec<usize>, [u64; 3], [u64; 3], u64);
+
+impl<'a> FeatureTraces<'a> {
+    /// [`FeatureCurve::between`], from the traces when it was asked before.
+    pub(crate) fn between(
+        &self,
+        geometry: &'a GeometryModel,
+        surfaces: &[usize],
+        from: [f64; 3],
+        to: [f64; 3],
+        tolerance: f64,
+    ) -> FeatureCurve<'a> {
+        let key = (
+            surfaces.to_vec(),
+            from.map(f64::to_bits),
+            to.map(f64::to_bits),
+            tolerance.to_bits(),
+        );
+        // A poisoned lock only means another thread panicked: the map is still whole.
+        let known = |curves: &Mutex<HashMap<TraceKey, FeatureCurve<'a>>>| {
+            let curves = curves.lock().unwrap_or_else(|e| e.into_inner());
+            curves
+                .get(&key)
+                .filter(|c| std::ptr::eq(c.geometry, geometry))
+                .cloned()
+        };
+        if let Some(curve) = known(&self.curves) {
+            return curve;
+        }
+        let curve = FeatureCurve::between(geometry, surfaces, from, to, tolerance);
+        let mut curves = self.curves.lock().unwrap_or_else(|e| e.into_inner());
+        let same_model = curves
+            .values()
+            .next()
+            .is_none_or(|c| std::ptr::eq(c.geometry, geometry));
+        let kept = self.points.load(std::sync::atomic::Ordering::Relaxed);
+        if same_model && kept + curve.points.len() <= KEPT_TRACE_POINTS {
+            self.points
+                .fetch_add(curve.points.len(), std::sync::atomic::Ordering::Relaxed);
+            curves.insert(key, curve.clone());
+        }
+        curve
+    }
+
+    /// How many traces are kept.
+    pub fn len(&self) -> usize {
+        self.curves.lock().unwrap_or_else(|e| e.into_inner()).len()
+    }
+
+    /// No trace kept yet.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
 impl<'a> FeatureCurve<'a> {

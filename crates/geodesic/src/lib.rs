@@ -37,11 +37,12 @@ pub mod placement;
 pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
 pub use chart::SurfaceChart;
 pub use closed_form::ClosedFormGeodesic;
+pub use feature::FeatureTraces;
 pub use path::GeodesicPath;
 pub use placement::{
-    max_distance_from_geometry, place_boundary_nodes, place_boundary_nodes_with,
-    project_nodes_onto_geometry, BoundaryNodeStrategy, BoundaryTargets, GeometryDistance,
-    PlacementOptions,
+    max_distance_from_geometry, place_boundary_nodes, place_boundary_nodes_reusing,
+    place_boundary_nodes_with, project_nodes_onto_geometry, BoundaryNodeStrategy, BoundaryTargets,
+    GeometryDistance, PlacementOptions,
 };
 
 /// What went wrong while putting boundary nodes on the geometry.

@@ -12,6 +12,7 @@ use rayon::prelude::*;
 
 use crate::association::snap_onto;
 use crate::correction::CorrectedEdge;
+use crate::feature::FeatureTraces;
 use crate::{BoundaryAssociation, GeodesicError};
 
 use super::edge_carriers::{edge_carrier, vertex_parameters, EdgeCarrier};
@@ -80,6 +81,25 @@ pub fn place_boundary_nodes_with(
     geometry: &GeometryModel,
     association: &BoundaryAssociation,
     options: &PlacementOptions,
+) -> Result<BoundaryTargets, GeodesicError> {
+    place_boundary_nodes_reusing(
+        mesh,
+        geometry,
+        association,
+        options,
+        &FeatureTraces::default(),
+    )
+}
+
+/// [`place_boundary_nodes_with`], the feature curves taken from `traces` where they were
+/// traced before (and kept there): for placing nodes on one model several times. The same
+/// targets as without.
+pub fn place_boundary_nodes_reusing<'a>(
+    mesh: &HighOrderMesh,
+    geometry: &'a GeometryModel,
+    association: &BoundaryAssociation,
+    options: &PlacementOptions,
+    traces: &FeatureTraces<'a>,
 ) -> Result<BoundaryTargets, GeodesicError> {
     let limit = options.checked_limit()?;
     if association.facet_entity.len() != mesh.facets.len() {
@@ -180,6 +200,7 @@ pub fn place_boundary_nodes_with(
                 *vertices,
                 entities,
                 options.feature_length_tolerance,
+                traces,
             )
         })
         .collect();

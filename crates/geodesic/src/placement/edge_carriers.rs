@@ -11,7 +11,7 @@ use crate::chart::{GeometryCharts, SurfaceChart};
 use crate::closed_form::ClosedFormGeodesic;
 use crate::correction::CorrectedEdge;
 use crate::curve_arc::CurveArc;
-use crate::feature::FeatureCurve;
+use crate::feature::{FeatureCurve, FeatureTraces};
 use crate::frame::end_tangent;
 use crate::path::{GeodesicPath, DEFAULT_LENGTH_TOLERANCE};
 use crate::{BoundaryAssociation, GeodesicError};
@@ -72,8 +72,8 @@ pub(crate) fn vertex_parameters(
 
 /// The carrier of the mesh edge from vertex `a` to vertex `b` lying on `entities`: the
 /// boundary curve (2D), the geodesic on the one surface, or the intersection curve of
-/// several surfaces (traced to the relative length tolerance `feature_tolerance`). Vertex
-/// parameters on a surface come from `params` where it has them.
+/// several surfaces (traced to the relative length tolerance `feature_tolerance`, or taken
+/// from `traces`). Vertex parameters on a surface come from `params` where it has them.
 pub(crate) fn edge_carrier<'a>(
     charts: &GeometryCharts<'a>,
     association: &BoundaryAssociation,
@@ -81,6 +81,7 @@ pub(crate) fn edge_carrier<'a>(
     [a, b]: [u32; 2],
     entities: &[usize],
     feature_tolerance: f64,
+    traces: &FeatureTraces<'a>,
 ) -> Result<EdgeCarrier<'a>, GeodesicError> {
     let vertex = |v: u32| {
         association.vertex_targets.get(&v).copied().ok_or_else(|| {
@@ -104,7 +105,7 @@ pub(crate) fn edge_carrier<'a>(
             Ok(EdgeCarrier::Curve(CurveArc::new(curve, la, lb)))
         }
         EntityGeometry::Surface(_) if entities.len() > 1 => Ok(EdgeCarrier::Feature(
-            FeatureCurve::between(geometry, entities, xa, xb, feature_tolerance),
+            traces.between(geometry, entities, xa, xb, feature_tolerance),
         )),
         EntityGeometry::Surface(surface) => {
             let chart = charts

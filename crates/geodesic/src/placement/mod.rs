@@ -24,7 +24,9 @@ mod geometry_distance;
 mod options;
 mod small_angle;
 
-pub use boundary::{place_boundary_nodes, place_boundary_nodes_with, BoundaryTargets};
+pub use boundary::{
+    place_boundary_nodes, place_boundary_nodes_reusing, place_boundary_nodes_with, BoundaryTargets,
+};
 pub use geometry_distance::{
     max_distance_from_geometry, project_nodes_onto_geometry, GeometryDistance,
 };

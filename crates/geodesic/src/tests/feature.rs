@@ -213,6 +213,35 @@ fn rim_nodes_lie_on_both_surfaces_at_the_arc_length_fractions() {
     }
 }
 
+/// A trace asked again comes from the kept ones, bit for bit what tracing gives; another
+/// model's curve is never handed out for the same key.
+#[test]
+fn kept_feature_traces_are_the_traced_curves() {
+    let geometry = model(0.0, false);
+    let (a, b) = ([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]);
+    let traces = FeatureTraces::default();
+    let fresh = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);
+    let first = traces.between(&geometry, &[0, 1], a, b, 1e-12);
+    let again = traces.between(&geometry, &[0, 1], a, b, 1e-12);
+    assert_eq!(traces.len(), 1);
+    for curve in [&first, &again] {
+        assert_eq!(curve.points, fresh.points);
+        for fraction in [0.0, 0.3, 0.5, 1.0] {
+            assert_eq!(curve.at(fraction), fresh.at(fraction));
+        }
+    }
+    // Another end point: a new trace.
+    traces.between(&geometry, &[0, 1], a, [-1.0, 0.0, 0.0], 1e-12);
+    assert_eq!(traces.len(), 2);
+    // The same key on another model (the same surfaces, and the rim as a curve entity):
+    // traced on that model, which finds its curve.
+    assert!(first.curve_entity().is_none());
+    let other = model(0.0, true);
+    let on_other = traces.between(&other, &[0, 1], a, b, 1e-12);
+    assert!(on_other.curve_entity().is_some());
+    assert_eq!(traces.len(), 2);
+}
+
 #[test]
 fn a_traced_circle_has_the_exact_length() {
     let geometry = model(0.0, false);

@@ -125,6 +125,7 @@ fn edge_nodes_are_computed_once_and_agree_with_either_orientation() {
                 [from, to],
                 &[0],
                 1e-12,
+                &Default::default(),
             )
             .unwrap();
             for (k, &f) in line.iter().enumerate() {
