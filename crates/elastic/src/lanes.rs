@@ -1,6 +1,7 @@
 //! One vector register of a cell action's sums: a few numbers side by side, multiplied and
-//! added lane by lane. The sum-factorised kernels ([`crate::extruded_factors`]) are written
-//! on these rather than on arrays because LLVM's vectoriser, left to itself, shuffled their
+//! added lane by lane. The sum-factorised kernels ([`crate::extruded_factors`]) and the
+//! stresses at the quadrature points (`matrix_free::stress_modes`) are written on these
+//! rather than on arrays because LLVM's vectoriser, left to itself, shuffled their
 //! f32 sums through blends and stack spills (the f32 gradients ran no faster than the f64
 //! ones). A product and a sum are always two operations, never one fused multiply-add, so
 //! [`Portable`] (plain arrays, any CPU) and the AVX registers give the same bits.
@@ -30,6 +31,7 @@ pub(crate) trait Lanes: Copy {
     /// The first `len` lanes into `to[..len]` (`len` ≤ WIDTH ≤ 8).
     #[inline(always)]
     fn store_first(self, to: &mut [Self::Real], len: usize) {
+        const { assert!(Self::WIDTH <= 8, "store_first's buffer holds 8 lanes") };
         let mut all = [Self::Real::default(); 8];
         self.store(&mut all);
         to[..len].copy_from_slice(&all[..len]);
@@ -99,8 +101,8 @@ mod avx {
     #[derive(Clone, Copy)]
     pub(crate) struct Avx2Single(__m256);
 
-    // SAFETY (every block below): the CPU has AVX (see the module documentation); loads and
-    // stores check their slice's length first.
+    // SAFETY (every block below): the CPU has AVX2, hence AVX (see the module
+    // documentation); loads and stores check their slice's length first.
     impl Lanes for Avx2Double {
         type Real = f64;
         const WIDTH: usize = 4;

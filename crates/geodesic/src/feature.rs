@@ -19,7 +19,7 @@
 //! plane), so it lies on each of them to round-off.
 
 use std::collections::HashMap;
-use std::sync::Mutex;
+use std::sync::{Arc, Mutex};
 
 use hocurve_nurbs::inversion::closest_point_on_curve;
 #[cfg(test)]
@@ -79,16 +79,23 @@ pub(crate) struct FeatureCurve<'a> {
 /// same), and a trace is a pure function of its surfaces, end points and tolerance, so a
 /// reused one is the curve that tracing again would give, bit for bit. A curve of another
 /// model is never returned (the model is compared by address).
-/// Beyond [`KEPT_TRACE_POINTS`] traced points (~64 bytes each with their parameters and
-/// lengths) no more curves are kept: memory is not traded for time without bound.
+/// Beyond [`KEPT_TRACE_POINTS`] traced points no more curves are kept: memory is not
+/// traded for time without bound.
 #[derive(Debug, Default)]
 pub struct FeatureTraces<'a> {
-    curves: Mutex<HashMap<TraceKey, FeatureCurve<'a>>>,
-    points: std::sync::atomic::AtomicUsize,
+    kept: Mutex<KeptTraces<'a>>,
 }
 
-/// At most this many traced points are kept by [`FeatureTraces`] (~256 MB). A STEP assembly
-/// of 85 k tets (as1_pe_203) keeps 1.3 M at p = 2.
+/// The curves kept, and their points in all.
+#[derive(Debug, Default)]
+struct KeptTraces<'a> {
+    curves: HashMap<TraceKey, Arc<FeatureCurve<'a>>>,
+    points: usize,
+}
+
+/// At most this many traced points are kept by [`FeatureTraces`]: ~100 bytes each on two
+/// surfaces (the point, its length, its parameter on each surface in a vector of its own),
+/// ~400 MB in all. A STEP assembly of 85 k tets (as1_pe_203) keeps 1.3 M at p = 2.
 pub const KEPT_TRACE_POINTS: usize = 1 << 22;
 
 /// Surfaces, the two end points' and the tolerance's bits.
@@ -110,35 +117,41 @@ impl<'a> FeatureTraces<'a> {
             to.map(f64::to_bits),
             tolerance.to_bits(),
         );
-        // A poisoned lock only means another thread panicked: the map is still whole.
-        let known = |curves: &Mutex<HashMap<TraceKey, FeatureCurve<'a>>>| {
-            let curves = curves.lock().unwrap_or_else(|e| e.into_inner());
-            curves
-                .get(&key)
-                .filter(|c| std::ptr::eq(c.geometry, geometry))
-                .cloned()
-        };
-        if let Some(curve) = known(&self.curves) {
-            return curve;
+        // (A poisoned lock only means another thread panicked: nothing in the lock can
+        // leave the map half changed.)
+        let known = self
+            .kept
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .curves
+            .get(&key)
+            .filter(|c| std::ptr::eq(c.geometry, geometry))
+            .cloned();
+        // Copied out of the lock: the other threads' lookups do not wait for it.
+        if let Some(curve) = known {
+            return FeatureCurve::clone(&curve);
         }
         let curve = FeatureCurve::between(geometry, surfaces, from, to, tolerance);
-        let mut curves = self.curves.lock().unwrap_or_else(|e| e.into_inner());
-        let same_model = curves
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        let same_model = kept
+            .curves
             .values()
             .next()
             .is_none_or(|c| std::ptr::eq(c.geometry, geometry));
-        let kept = self.points.load(std::sync::atomic::Ordering::Relaxed);
-        if same_model && kept + curve.points.len() <= KEPT_TRACE_POINTS {
-            self.points
-                .fetch_add(curve.points.len(), std::sync::atomic::Ordering::Relaxed);
-            curves.insert(key, curve.clone());
+        if same_model && kept.points + curve.points.len() <= KEPT_TRACE_POINTS {
+            kept.points += curve.points.len();
+            kept.curves.insert(key, Arc::new(curve.clone()));
         }
         curve
     }
 
     /// How many traces are kept.
     pub fn len(&self) -> usize {
-        self.curves.lock().unwrap_or_else(|e| e.into_inner()).len()
+        self.kept
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .curves
+            .len()
     }
 
     /// No trace kept yet.
