@@ -154,23 +154,22 @@ pub fn associate_boundary(
             .collect();
         open_vertices.sort_unstable();
         open_vertices.dedup();
-        // An entity without a closed form lies in the box of its control points (convex
-        // hull, positive weights): a vertex farther than the tolerance from that box cannot
-        // be on it, and its point inversion is skipped.
-        let boxes: Vec<Option<([f64; 3], [f64; 3])>> = candidates
-            .iter()
-            .map(|&e| hull_box(&geometry.entities[e]))
-            .collect();
+        // An entity without a closed form lies in the boxes of its knot spans' control
+        // points (convex hull, positive weights): a vertex farther than the tolerance from
+        // all of them cannot be on it, and its point inversion is skipped.
         let distances: Vec<Vec<f64>> = open_vertices
             .par_iter()
             .map(|&v| {
                 let x = mesh.vertices[v as usize];
                 candidates
                     .iter()
-                    .zip(&boxes)
-                    .map(|(&e, b)| match b {
-                        Some((lo, hi)) if box_distance(x, lo, hi) > tolerance => f64::INFINITY,
-                        _ => geometry.entities[e].distance(x),
+                    .map(|&e| {
+                        let entity = &geometry.entities[e];
+                        if entity.analytic.is_none() && entity.patch_is_farther_than(x, tolerance) {
+                            f64::INFINITY
+                        } else {
+                            entity.distance(x)
+                        }
                     })
                     .collect()
             })
@@ -200,6 +199,13 @@ pub fn associate_boundary(
                         .map(|&v| row(v)[k])
                         .fold(0.0, f64::max);
                     if worst > reach {
+                        continue;
+                    }
+                    // The score is at least `worst` and the centre's patch distance: when
+                    // either provably reaches the best so far, this entity cannot win.
+                    if best.is_some_and(|(d, _)| {
+                        worst >= d || geometry.entities[e].patch_is_farther_than(centre, d)
+                    }) {
                         continue;
                     }
                     // Vertices on the curve where two surfaces meet are on both; the facet's
@@ -281,30 +287,6 @@ pub fn associate_boundary(
         unassociated,
         max_vertex_move,
     })
-}
-
-/// The box of an entity's control points when the entity is its NURBS alone (no closed
-/// form, whose surface is unbounded) and every weight is positive.
-fn hull_box(entity: &hocurve_nurbs::GeometricEntity) -> Option<([f64; 3], [f64; 3])> {
-    if entity.analytic.is_some() {
-        return None;
-    }
-    let (points, weights) = match &entity.geometry {
-        hocurve_nurbs::EntityGeometry::Curve(c) => (&c.control_points, &c.weights),
-        hocurve_nurbs::EntityGeometry::Surface(s) => (&s.control_points, &s.weights),
-    };
-    if points.is_empty() || weights.iter().any(|w| w.is_nan() || *w <= 0.0) {
-        return None;
-    }
-    Some(hocurve_nurbs::vec3::bounding_box(points))
-}
-
-/// The distance from `x` to the box `[lo, hi]` (0 inside).
-fn box_distance(x: [f64; 3], lo: &[f64; 3], hi: &[f64; 3]) -> f64 {
-    (0..3)
-        .map(|d| (lo[d] - x[d]).max(x[d] - hi[d]).max(0.0).powi(2))
-        .sum::<f64>()
-        .sqrt()
 }
 
 /// The mean of a facet's vertices.

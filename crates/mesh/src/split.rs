@@ -29,33 +29,48 @@ impl LinearMesh {
     /// the edge lies on. The caller checks that the position keeps the split cells valid.
     pub fn split_edges_at(&self, edges: &[([u32; 2], Option<[f64; 3]>)]) -> (LinearMesh, usize) {
         let mut mesh = self.clone();
+        let n = mesh.vertices.len();
+        // Which cells and facets hold each vertex (ascending), kept up to date as edges
+        // split: finding an edge's holders by scanning every element made the splitting of
+        // many rim edges on a large mesh quadratic.
+        let mut incidence = [incidence_of(&mesh.cells, n), incidence_of(&mesh.facets, n)];
+        // New vertices and cells get tags past the file's largest; cells and facets share
+        // Gmsh's element numbering, so new tags follow both.
+        let mut next_vertex_tag = mesh.vertex_tags.iter().max().map_or(1, |t| t + 1);
+        let mut next_element_tag = mesh
+            .cell_tags
+            .iter()
+            .chain(&mesh.facet_tags)
+            .max()
+            .map_or(1, |t| t + 1);
         let mut split = 0;
         for &([a, b], position) in edges {
-            let holds = |e: &Element| e.vertices.contains(&a) && e.vertices.contains(&b);
-            let holders = mesh.cells.iter().chain(&mesh.facets).filter(|e| holds(e));
-            let mut any = false;
-            let mut simplices_only = true;
-            for e in holders {
-                any = true;
-                simplices_only &= matches!(e.kind, Shape::Tri | Shape::Tet | Shape::Line);
-            }
+            let holders = [0, 1].map(|k| common(&incidence[k], a, b));
+            let lists = [&mesh.cells, &mesh.facets];
+            let any = holders.iter().any(|h| !h.is_empty());
+            let simplices_only = (0..2).all(|k| {
+                holders[k]
+                    .iter()
+                    .all(|&i| matches!(lists[k][i].kind, Shape::Tri | Shape::Tet | Shape::Line))
+            });
             if a == b || !any || !simplices_only {
                 continue;
             }
             let (pa, pb) = (mesh.vertices[a as usize], mesh.vertices[b as usize]);
             let m = mesh.vertices.len() as u32;
-            let cells_before = mesh.cells.len();
-            let facets_before = mesh.facets.len();
             mesh.vertices.push(position.unwrap_or([
                 0.5 * (pa[0] + pb[0]),
                 0.5 * (pa[1] + pb[1]),
                 0.5 * (pa[2] + pb[2]),
             ]));
-            for list in [&mut mesh.cells, &mut mesh.facets] {
-                let mut second = Vec::new();
-                for e in list.iter_mut().filter(|e| holds(e)) {
-                    let mut other = e.clone();
-                    for v in &mut e.vertices {
+            let mut added = [0u64; 2];
+            for (k, list) in [&mut mesh.cells, &mut mesh.facets].into_iter().enumerate() {
+                let inc = &mut incidence[k];
+                inc.push(Vec::new());
+                let before = list.len();
+                for &i in &holders[k] {
+                    let mut other = list[i].clone();
+                    for v in &mut list[i].vertices {
                         if *v == b {
                             *v = m;
                         }
@@ -65,30 +80,31 @@ impl LinearMesh {
                             *v = m;
                         }
                     }
-                    second.push(other);
+                    inc[b as usize].retain(|&x| x != i);
+                    inc[m as usize].push(i);
+                    list.push(other);
                 }
-                list.extend(second);
+                for (j, e) in list.iter().enumerate().skip(before) {
+                    for &v in &e.vertices {
+                        if inc[v as usize].last() != Some(&j) {
+                            inc[v as usize].push(j);
+                        }
+                    }
+                }
+                added[k] = (list.len() - before) as u64;
             }
-            // New vertices and cells get tags past the file's largest.
             if !mesh.vertex_tags.is_empty() {
-                let next = mesh.vertex_tags.iter().max().map_or(1, |t| t + 1);
-                mesh.vertex_tags.push(next);
+                mesh.vertex_tags.push(next_vertex_tag);
+                next_vertex_tag += 1;
             }
-            // Cells and facets share Gmsh's element numbering: new tags follow both.
-            let mut next = mesh
-                .cell_tags
-                .iter()
-                .chain(&mesh.facet_tags)
-                .max()
-                .map_or(1, |t| t + 1);
-            if !mesh.cell_tags.is_empty() {
-                let added = (mesh.cells.len() - cells_before) as u64;
-                mesh.cell_tags.extend(next..next + added);
-                next += added;
-            }
-            if !mesh.facet_tags.is_empty() {
-                let added = (mesh.facets.len() - facets_before) as u64;
-                mesh.facet_tags.extend(next..next + added);
+            for (tags, added) in [
+                (&mut mesh.cell_tags, added[0]),
+                (&mut mesh.facet_tags, added[1]),
+            ] {
+                if !tags.is_empty() {
+                    tags.extend(next_element_tag..next_element_tag + added);
+                    next_element_tag += added;
+                }
             }
             split += 1;
         }
@@ -135,6 +151,41 @@ impl LinearMesh {
         mesh.cells.extend(added);
         (mesh, count as usize)
     }
+}
+
+/// For every vertex of `count`, the ascending indices of the elements holding it.
+fn incidence_of(elements: &[Element], count: usize) -> Vec<Vec<usize>> {
+    let mut out = vec![Vec::new(); count];
+    for (i, e) in elements.iter().enumerate() {
+        for &v in &e.vertices {
+            if let Some(list) = out.get_mut(v as usize) {
+                if list.last() != Some(&i) {
+                    list.push(i);
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The elements holding both `a` and `b` (none when either is not a vertex), ascending.
+fn common(incidence: &[Vec<usize>], a: u32, b: u32) -> Vec<usize> {
+    let (Some(x), Some(y)) = (incidence.get(a as usize), incidence.get(b as usize)) else {
+        return Vec::new();
+    };
+    let (mut i, mut j, mut out) = (0, 0, Vec::new());
+    while i < x.len() && j < y.len() {
+        match x[i].cmp(&y[j]) {
+            std::cmp::Ordering::Less => i += 1,
+            std::cmp::Ordering::Greater => j += 1,
+            std::cmp::Ordering::Equal => {
+                out.push(x[i]);
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    out
 }
 
 #[cfg(test)]

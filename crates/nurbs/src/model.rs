@@ -3,6 +3,7 @@
 
 use std::sync::OnceLock;
 
+use crate::hull::SpanHulls;
 use crate::inversion::{
     closest_point_on_curve, closest_point_on_curve_near, closest_point_on_surface,
     closest_point_on_surface_near, closest_point_on_surface_sampled, SurfaceSamples,
@@ -87,6 +88,29 @@ impl GeometricEntity {
                 }
             }
             None => inverted,
+        }
+    }
+
+    /// Whether every point of the entity's NURBS patch is provably farther than `r` from `x`,
+    /// by the boxes of its knot spans ([`crate::hull`]) — no point inversion; `false` proves
+    /// nothing (nor where a weight is not positive). A closed form reaches beyond the patch:
+    /// this bounds [`Self::patch_distance`], not [`Self::distance`] of such an entity.
+    pub fn patch_is_farther_than(&self, x: [f64; 3], r: f64) -> bool {
+        match &self.geometry {
+            EntityGeometry::Curve(c) => {
+                SpanHulls::of_curve(c).is_some_and(|h| h.is_farther_than(x, r))
+            }
+            EntityGeometry::Surface(s) => {
+                let cached = self.samples.0.get_or_init(|| SurfaceSamples::new(s));
+                if cached.fits(s) {
+                    cached
+                        .hulls
+                        .as_ref()
+                        .is_some_and(|h| h.is_farther_than(x, r))
+                } else {
+                    SpanHulls::of_surface(s).is_some_and(|h| h.is_farther_than(x, r))
+                }
+            }
         }
     }
 

@@ -144,3 +144,138 @@ fn a_quadrilateral_splits_into_two_positive_triangles_along_the_diagonal_of_its_
     assert_eq!(count, 0);
     assert_eq!(same.cells.len(), 2);
 }
+
+/// The plain statement of `split_edges_at`: every element scanned for each edge.
+fn split_by_scanning(mesh: &LinearMesh, edges: &[([u32; 2], Option<[f64; 3]>)]) -> LinearMesh {
+    let mut mesh = mesh.clone();
+    for &([a, b], position) in edges {
+        let holds = |e: &Element| e.vertices.contains(&a) && e.vertices.contains(&b);
+        let any = mesh.cells.iter().chain(&mesh.facets).any(holds);
+        let simplices = mesh
+            .cells
+            .iter()
+            .chain(&mesh.facets)
+            .filter(|e| holds(e))
+            .all(|e| matches!(e.kind, Shape::Tri | Shape::Tet | Shape::Line));
+        if a == b || !any || !simplices {
+            continue;
+        }
+        let m = mesh.vertices.len() as u32;
+        let (pa, pb) = (mesh.vertices[a as usize], mesh.vertices[b as usize]);
+        mesh.vertices
+            .push(position.unwrap_or([0, 1, 2].map(|d| 0.5 * (pa[d] + pb[d]))));
+        let (c0, f0) = (mesh.cells.len(), mesh.facets.len());
+        for list in [&mut mesh.cells, &mut mesh.facets] {
+            let mut second = Vec::new();
+            for e in list.iter_mut().filter(|e| holds(e)) {
+                let mut other = e.clone();
+                e.vertices
+                    .iter_mut()
+                    .filter(|v| **v == b)
+                    .for_each(|v| *v = m);
+                other
+                    .vertices
+                    .iter_mut()
+                    .filter(|v| **v == a)
+                    .for_each(|v| *v = m);
+                second.push(other);
+            }
+            list.extend(second);
+        }
+        let next = mesh.vertex_tags.iter().max().map_or(1, |t| t + 1);
+        mesh.vertex_tags.push(next);
+        let next = mesh
+            .cell_tags
+            .iter()
+            .chain(&mesh.facet_tags)
+            .max()
+            .map_or(1, |t| t + 1);
+        let added_cells = (mesh.cells.len() - c0) as u64;
+        mesh.cell_tags.extend(next..next + added_cells);
+        let added_facets = (mesh.facets.len() - f0) as u64;
+        mesh.facet_tags
+            .extend(next + added_cells..next + added_cells + added_facets);
+    }
+    mesh
+}
+
+#[test]
+fn splitting_many_edges_in_turn_matches_scanning_every_element() {
+    // A 3 × 3 × 3 block of cubes, six tetrahedra each (Kuhn), the bottom face's triangles as
+    // facets, with tags out of order.
+    let n = 3;
+    let id = |i: usize, j: usize, k: usize| ((i * (n + 1) + j) * (n + 1) + k) as u32;
+    let mut mesh = LinearMesh {
+        dim: 3,
+        ..Default::default()
+    };
+    for i in 0..=n {
+        for j in 0..=n {
+            for k in 0..=n {
+                mesh.vertices.push([i as f64, j as f64, k as f64]);
+                mesh.vertex_tags
+                    .push((7 * mesh.vertex_tags.len() as u64 + 3) % 101 + 1);
+            }
+        }
+    }
+    let paths = [
+        [0, 1, 2],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 2, 0],
+        [2, 0, 1],
+        [2, 1, 0],
+    ];
+    for i in 0..n {
+        for j in 0..n {
+            for k in 0..n {
+                for axes in paths {
+                    let mut at = [i, j, k];
+                    let mut corners = vec![id(at[0], at[1], at[2])];
+                    for a in axes {
+                        at[a] += 1;
+                        corners.push(id(at[0], at[1], at[2]));
+                    }
+                    mesh.cells
+                        .push(tet([corners[0], corners[1], corners[2], corners[3]]));
+                }
+            }
+            if i < n && j < n {
+                let (a, b, c, d) = (
+                    id(i, j, 0),
+                    id(i + 1, j, 0),
+                    id(i + 1, j + 1, 0),
+                    id(i, j + 1, 0),
+                );
+                for v in [vec![a, c, b], vec![a, d, c]] {
+                    mesh.facets.push(Element {
+                        kind: Shape::Tri,
+                        vertices: v,
+                        entity: 2,
+                    });
+                }
+            }
+        }
+    }
+    mesh.cell_tags = (0..mesh.cells.len() as u64).map(|t| 1000 - 3 * t).collect();
+    mesh.facet_tags = (0..mesh.facets.len() as u64).map(|t| 2000 + t).collect();
+    // Edges of every fifth cell (some shared, some gone by the time they come), repeats,
+    // a degenerate pair, an edge that is no edge and one to a vertex past the end.
+    let mut edges: Vec<([u32; 2], Option<[f64; 3]>)> = Vec::new();
+    for c in mesh.cells.iter().step_by(5) {
+        let v = &c.vertices;
+        for (x, y) in [(0, 1), (1, 3), (0, 2), (2, 3)] {
+            edges.push(([v[x], v[y]], None));
+        }
+    }
+    edges.push(([0, 1], Some([0.25, 0.0, 0.1])));
+    edges.push(([0, 1], None));
+    edges.push(([5, 5], None));
+    edges.push(([0, id(3, 3, 3)], None));
+    edges.push(([0, 10_000], None));
+    let (fast, count) = mesh.split_edges_at(&edges);
+    let slow = split_by_scanning(&mesh, &edges);
+    assert!(count > 20, "{count}");
+    assert_eq!(fast.vertices.len() - mesh.vertices.len(), count);
+    assert_eq!(fast, slow);
+}
