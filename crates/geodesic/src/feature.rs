@@ -40,6 +40,11 @@ const MAX_SEGMENTS: usize = 1024;
 /// A model curve carries a feature edge if both vertices and the traced curve's midpoint lie
 /// within this distance (relative to the model size) of it.
 const CURVE_MATCH_TOLERANCE: f64 = 1e-9;
+/// At most this many Newton steps onto the intersection of two surfaces: from a point near
+/// it they settle in 2–4 where the surfaces cross at an angle; where they are nearly
+/// tangent the steps wander (Ventilator.stp's fillets: 50 steps of ~1e-5 of the model size)
+/// and the seam solvers that follow do better.
+const INTERSECTION_STEPS: usize = 12;
 /// At most this many parabola steps across the seam of two tangent surfaces.
 const SEAM_ITERATIONS: usize = 40;
 /// At most this many alternating projections onto two surfaces from their last parameters.
@@ -368,7 +373,7 @@ fn foot_near(
     let mut y = x;
     let mut converged = false;
     if charts.len() >= 2 {
-        for _ in 0..50 {
+        for _ in 0..INTERSECTION_STEPS {
             let mut planes = Vec::with_capacity(2);
             for (chart, uv) in charts.iter().zip(params.iter_mut()).take(2) {
                 let (new_uv, q) = chart.project_near(y, *uv);
@@ -396,7 +401,10 @@ fn foot_near(
             );
             let step = distance(next, y);
             y = next;
-            if step <= 1e-15 * size {
+            // The tangent planes are known to round-off (~1e-16 of the size), so the point
+            // they fix only to that over the sine of their angle (|t|): steps below that are
+            // noise (faces meeting at a grazing angle never take a 1e-15 step).
+            if step <= 1e-15 * size / det.sqrt().min(1.0) {
                 converged = true;
                 break;
             }
