@@ -6,7 +6,6 @@
 //! non-degenerate direction only. Iterations stop when a step moves the point by less than
 //! 1e-12 of the model size.
 
-use crate::hull::SpanHulls;
 use crate::shapes::ClosestPoint;
 use crate::vec3::{dot, norm, sub};
 use crate::{NurbsCurve, NurbsSurface, SurfaceProperties};
@@ -155,8 +154,7 @@ pub fn closest_point_on_surface(surface: &NurbsSurface, x: [f64; 3]) -> ClosestP
 }
 
 /// The start grid of global point inversion on one surface — degree + 2 parameters per knot
-/// span in each direction, with their points — the surface's properties and its span hulls
-/// ([`SpanHulls`], for proving a point far from the patch without inverting): computed once
+/// span in each direction, with their points — and the surface's properties: computed once
 /// for a surface inverted many times, they make each inversion a scan of stored points and
 /// a few Newton steps instead of hundreds of surface evaluations.
 #[derive(Debug, Clone, PartialEq)]
@@ -168,8 +166,6 @@ pub struct SurfaceSamples {
     /// What the grid was made for: the domain and the control net's size.
     domain: ((f64, f64), (f64, f64)),
     net: (usize, usize),
-    /// The boxes of its knot spans, `None` without positive weights.
-    pub hulls: Option<SpanHulls>,
 }
 
 impl SurfaceSamples {
@@ -196,7 +192,6 @@ impl SurfaceSamples {
             properties: surface.properties(),
             domain: surface.domain(),
             net: (surface.n_u(), surface.n_v()),
-            hulls: SpanHulls::of_surface(surface),
         }
     }
 

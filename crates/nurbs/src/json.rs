@@ -376,6 +376,7 @@ fn parse_entity(index: usize, value: Value) -> Result<GeometricEntity, GeometryI
         geometry: parsed.geometry,
         analytic: parsed.analytic,
         samples: Default::default(),
+        hulls: Default::default(),
     })
 }
 

@@ -34,6 +34,8 @@ pub struct GeometricEntity {
     pub analytic: Option<AnalyticShape>,
     /// A surface's inversion start grid, built on first use.
     pub(crate) samples: SampleCache,
+    /// The boxes of the patch's knot spans, built on first use.
+    pub(crate) hulls: HullCache,
 }
 
 /// The lazily built [`SurfaceSamples`] of a surface entity. It takes no part in comparisons
@@ -46,6 +48,50 @@ impl PartialEq for SampleCache {
     fn eq(&self, _: &Self) -> bool {
         true
     }
+}
+
+/// The lazily built [`SpanHulls`] of an entity (`None` inside: a weight not positive), with
+/// the patch it was built for in brief ([`patch_signature`]): a cached box that no longer
+/// holds the patch would wrongly prove points far from it, so one built for another patch
+/// (the `geometry` replaced after first use) is not used. Takes no part in comparisons.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct HullCache(OnceLock<(PatchSignature, Option<SpanHulls>)>);
+
+impl PartialEq for HullCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+/// The control net's size, the knot vectors' ends and the first, middle and last control
+/// points' bits: what a replaced patch changes, in O(1).
+type PatchSignature = [u64; 16];
+
+fn patch_signature(geometry: &EntityGeometry) -> PatchSignature {
+    let (points, weights) = match geometry {
+        EntityGeometry::Curve(c) => (&c.control_points, &c.weights),
+        EntityGeometry::Surface(s) => (&s.control_points, &s.weights),
+    };
+    let (knots, other): (&[f64], &[f64]) = match geometry {
+        EntityGeometry::Curve(c) => (&c.knots, &[]),
+        EntityGeometry::Surface(s) => (&s.knots_u, &s.knots_v),
+    };
+    let mut out = [0u64; 16];
+    out[0] = points.len() as u64;
+    out[1] = knots.len() as u64;
+    out[2] = other.len() as u64;
+    let ends = |k: &[f64]| [k.first(), k.last()].map(|x| x.map_or(0, |x| x.to_bits()));
+    out[3..5].copy_from_slice(&ends(knots));
+    out[5..7].copy_from_slice(&ends(other));
+    let n = points.len();
+    for (slot, i) in [0, n / 2, n.saturating_sub(1)].into_iter().enumerate() {
+        if let (Some(p), Some(w)) = (points.get(i), weights.get(i)) {
+            out[7 + 3 * slot] = p[0].to_bits() ^ w.to_bits().rotate_left(17);
+            out[8 + 3 * slot] = p[1].to_bits();
+            out[9 + 3 * slot] = p[2].to_bits();
+        }
+    }
+    out
 }
 
 /// A closest point on an entity: the parameter (curves use `param[0]`), the point and the
@@ -65,6 +111,7 @@ impl GeometricEntity {
             geometry,
             analytic: None,
             samples: SampleCache::default(),
+            hulls: HullCache::default(),
         }
     }
 
@@ -96,21 +143,16 @@ impl GeometricEntity {
     /// nothing (nor where a weight is not positive). A closed form reaches beyond the patch:
     /// this bounds [`Self::patch_distance`], not [`Self::distance`] of such an entity.
     pub fn patch_is_farther_than(&self, x: [f64; 3], r: f64) -> bool {
-        match &self.geometry {
-            EntityGeometry::Curve(c) => {
-                SpanHulls::of_curve(c).is_some_and(|h| h.is_farther_than(x, r))
-            }
-            EntityGeometry::Surface(s) => {
-                let cached = self.samples.0.get_or_init(|| SurfaceSamples::new(s));
-                if cached.fits(s) {
-                    cached
-                        .hulls
-                        .as_ref()
-                        .is_some_and(|h| h.is_farther_than(x, r))
-                } else {
-                    SpanHulls::of_surface(s).is_some_and(|h| h.is_farther_than(x, r))
-                }
-            }
+        let build = || match &self.geometry {
+            EntityGeometry::Curve(c) => SpanHulls::of_curve(c),
+            EntityGeometry::Surface(s) => SpanHulls::of_surface(s),
+        };
+        let signature = patch_signature(&self.geometry);
+        let (built_for, hulls) = self.hulls.0.get_or_init(|| (signature, build()));
+        if *built_for == signature {
+            hulls.as_ref().is_some_and(|h| h.is_farther_than(x, r))
+        } else {
+            build().is_some_and(|h| h.is_farther_than(x, r))
         }
     }
 

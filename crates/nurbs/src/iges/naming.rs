@@ -43,6 +43,7 @@ pub(super) fn name_entities(converted: Vec<Converted<'_>>) -> Vec<GeometricEntit
                 geometry: c.geometry,
                 analytic: c.analytic,
                 samples: Default::default(),
+                hulls: Default::default(),
             }
         })
         .collect()

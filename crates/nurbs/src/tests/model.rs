@@ -45,3 +45,27 @@ fn a_local_projection_from_a_nearby_parameter_finds_the_global_foot() {
         assert!(vec3::distance(e.point(param), foot) < 1e-12, "{}", e.name);
     }
 }
+
+#[test]
+fn span_hulls_prove_far_points_and_are_rebuilt_for_a_replaced_patch() {
+    let mut e = GeometricEntity::new(
+        "ball",
+        "test",
+        EntityGeometry::Surface(sphere([0.0; 3], 1.0).unwrap()),
+    );
+    let x = [10.0, 0.0, 0.0];
+    assert!(e.patch_is_farther_than(x, 8.5));
+    assert!(!e.patch_is_farther_than(x, 9.0 + 1e-9));
+    // The same net size moved onto x: the hulls built for the first sphere would still say
+    // "far".
+    e.geometry = EntityGeometry::Surface(sphere([9.0, 0.0, 0.0], 1.0).unwrap());
+    assert!(!e.patch_is_farther_than(x, 1e-9));
+    // Curves too.
+    let c = GeometricEntity::new(
+        "ring",
+        "test",
+        EntityGeometry::Curve(crate::shapes::circle([0.0; 3], [0.0, 0.0, 1.0], 1.0).unwrap()),
+    );
+    assert!(c.patch_is_farther_than([0.0, 0.0, 5.0], 4.5));
+    assert!(!c.patch_is_farther_than([1.0, 0.0, 0.0], 1e-12));
+}
