@@ -420,15 +420,8 @@ fn split_for_refinement(
         }
         _ => Vec::new(),
     };
-    let (mut split, count) = base.split_edges(&chords);
-    let mut facet_count = 0;
-    for edge in &facet_edges {
-        let (next, n) = split.split_edges_at(std::slice::from_ref(edge));
-        if n > 0 && next.check_orientation().is_ok() {
-            split = next;
-            facet_count += n;
-        }
-    }
+    let (split, count) = base.split_edges(&chords);
+    let (split, facet_count) = split.split_edges_keeping_orientation(&facet_edges);
     Ok((split, count, facet_count))
 }
 

@@ -332,7 +332,7 @@ impl LinearMesh {
 /// Jacobian determinant of the straight map at each vertex, divided by the reference
 /// element's: the determinant of the edge vectors leaving the vertex (2D: the z component
 /// of their cross product).
-fn corner_jacobians(shape: hocurve_nodes::Shape, x: &[[f64; 3]]) -> Vec<f64> {
+pub(crate) fn corner_jacobians(shape: hocurve_nodes::Shape, x: &[[f64; 3]]) -> Vec<f64> {
     let reference = shape.vertices();
     let edges = shape.edges();
     let dim = shape.dim();

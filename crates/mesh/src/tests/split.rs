@@ -199,8 +199,12 @@ fn split_by_scanning(mesh: &LinearMesh, edges: &[([u32; 2], Option<[f64; 3]>)]) 
     mesh
 }
 
-#[test]
-fn splitting_many_edges_in_turn_matches_scanning_every_element() {
+/// An edge and where to split it.
+type SplitAt = ([u32; 2], Option<[f64; 3]>);
+
+/// A 3 × 3 × 3 block of Kuhn-split cubes with its bottom triangles as facets, and a list of
+/// edges to split.
+fn kuhn_block_and_edges() -> (LinearMesh, Vec<SplitAt>) {
     // A 3 × 3 × 3 block of cubes, six tetrahedra each (Kuhn), the bottom face's triangles as
     // facets, with tags out of order.
     let n = 3;
@@ -236,8 +240,12 @@ fn splitting_many_edges_in_turn_matches_scanning_every_element() {
                         at[a] += 1;
                         corners.push(id(at[0], at[1], at[2]));
                     }
-                    mesh.cells
-                        .push(tet([corners[0], corners[1], corners[2], corners[3]]));
+                    let mut cell = tet([corners[0], corners[1], corners[2], corners[3]]);
+                    // (Odd permutations of the axes turn the other way.)
+                    if volume(&mesh, &cell) < 0.0 {
+                        cell.vertices.swap(2, 3);
+                    }
+                    mesh.cells.push(cell);
                 }
             }
             if i < n && j < n {
@@ -261,7 +269,7 @@ fn splitting_many_edges_in_turn_matches_scanning_every_element() {
     mesh.facet_tags = (0..mesh.facets.len() as u64).map(|t| 2000 + t).collect();
     // Edges of every fifth cell (some shared, some gone by the time they come), repeats,
     // a degenerate pair, an edge that is no edge and one to a vertex past the end.
-    let mut edges: Vec<([u32; 2], Option<[f64; 3]>)> = Vec::new();
+    let mut edges: Vec<SplitAt> = Vec::new();
     for c in mesh.cells.iter().step_by(5) {
         let v = &c.vertices;
         for (x, y) in [(0, 1), (1, 3), (0, 2), (2, 3)] {
@@ -273,9 +281,57 @@ fn splitting_many_edges_in_turn_matches_scanning_every_element() {
     edges.push(([5, 5], None));
     edges.push(([0, id(3, 3, 3)], None));
     edges.push(([0, 10_000], None));
+    (mesh, edges)
+}
+
+#[test]
+fn splitting_many_edges_in_turn_matches_scanning_every_element() {
+    let (mesh, edges) = kuhn_block_and_edges();
     let (fast, count) = mesh.split_edges_at(&edges);
     let slow = split_by_scanning(&mesh, &edges);
     assert!(count > 20, "{count}");
     assert_eq!(fast.vertices.len() - mesh.vertices.len(), count);
     assert_eq!(fast, slow);
+}
+
+#[test]
+fn keeping_orientation_checks_only_the_cells_a_split_makes() {
+    // The Kuhn block of the test above, its bottom-face edges split at points pushed up
+    // into the block (kept) or down through the bottom (inverting the cells below: refused),
+    // against splitting one edge at a time and checking the whole mesh after each.
+    let (mesh, edges) = kuhn_block_and_edges();
+    let mut moved: Vec<SplitAt> = Vec::new();
+    for (k, &([a, b], _)) in edges.iter().enumerate() {
+        let (Some(&pa), Some(&pb)) = (mesh.vertices.get(a as usize), mesh.vertices.get(b as usize))
+        else {
+            moved.push(([a, b], None));
+            continue;
+        };
+        let mut mid = [0, 1, 2].map(|d| 0.5 * (pa[d] + pb[d]));
+        mid[2] += match k % 3 {
+            0 => 0.2,
+            1 => -0.4,
+            _ => 0.0,
+        };
+        moved.push(([a, b], Some(mid)));
+    }
+    mesh.check_orientation().unwrap();
+    let (fast, count) = mesh.split_edges_keeping_orientation(&moved);
+    let mut slow = mesh.clone();
+    let mut slow_count = 0;
+    for edge in &moved {
+        let (next, n) = slow.split_edges_at(std::slice::from_ref(edge));
+        if n > 0 && next.check_orientation().is_ok() {
+            slow = next;
+            slow_count += n;
+        }
+    }
+    assert!(
+        count > 10 && count < moved.len() - 10,
+        "{count} of {}",
+        moved.len()
+    );
+    assert_eq!(count, slow_count);
+    assert_eq!(fast, slow);
+    assert!(fast.check_orientation().is_ok());
 }
