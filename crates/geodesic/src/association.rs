@@ -315,6 +315,13 @@ fn shortest_edge(mesh: &LinearMesh, vertices: &[u32]) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// How far, in multiples of a point's distance from its entities, the seam solver may move it
+/// (see [`snap_onto`]).
+const SEAM_REACH: f64 = 1e4;
+
+/// Faces closer than this (relative to the model size) at a point share it: a seam.
+const ON_SEAM: f64 = 1e-10;
+
 /// The point on all of `entities` nearest `x`: the projection for one entity; alternating
 /// projections for several (they converge linearly, fast for transversal intersections),
 /// then, where they creep (surfaces meeting tangentially), the seam solver of
@@ -350,8 +357,34 @@ pub fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [
                 .zip(&params)
                 .map(|(&e, uv)| uv.unwrap_or_else(|| geometry.entities[e].closest_point(y).param))
                 .collect();
+            // Where the faces touch over a wide band (one blending into the other, gap
+            // ~1e-7 for millimetres along the seam), the offset is flat every way, the
+            // direction across is noise, and the solver slides along the seam to wherever
+            // the gap is least (Ventilator.stp: 1.85 mm, seven edge lengths, from a
+            // vertex 1.5e-7 off one face, for a gap 1.3e-7 instead of 1.5e-7). A foot is
+            // taken only within `SEAM_REACH` times the distance it removes: faces that
+            // touch tangentially with relative curvature κ have their seam √(2d/κ) from a
+            // point d off one of them, within reach unless κd < 2/SEAM_REACH².
+            // And where y is already within the file's stated uncertainty of every entity
+            // (one point, by the file's own definition, as the written mesh is measured),
+            // only a seam the faces really share (to round-off) is worth a move: a foot
+            // merely within the band is where the gap happens to be least.
+            let reach = SEAM_REACH * off(x);
+            let within_band = geometry.uncertainty.is_some_and(|u| left <= u);
             match crate::feature::foot_on_seam_of(geometry, entities, x, &guess) {
-                Some(z) if off(z) < left => z,
+                Some(z) if distance(x, z) <= reach => {
+                    let gap = off(z);
+                    let better = if within_band {
+                        gap <= ON_SEAM * size
+                    } else {
+                        gap < left
+                    };
+                    if better {
+                        z
+                    } else {
+                        y
+                    }
+                }
                 _ => y,
             }
         }

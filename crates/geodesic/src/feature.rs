@@ -24,7 +24,7 @@ use std::sync::{Arc, Mutex};
 use hocurve_nurbs::inversion::closest_point_on_curve;
 #[cfg(test)]
 use hocurve_nurbs::inversion::closest_point_on_surface;
-use hocurve_nurbs::vec3::{add, cross, distance, dot, scale, sub, unit};
+use hocurve_nurbs::vec3::{add, cross, distance, dot, norm, scale, sub, unit};
 use hocurve_nurbs::{EntityGeometry, GeometricEntity, GeometryModel};
 
 use crate::association::snap_onto;
@@ -463,6 +463,14 @@ fn foot_near(
 /// would scatter the traced points across it (by up to 2e-3 there). Only where the feet
 /// themselves are within `band` (beyond a patch's end its projection clamps: the feet are
 /// apart along the surface while h stays flat).
+///
+/// Every point returned has its two feet apart by at most `band` (or a hundredth of the
+/// `seam` segment) beyond their offset along the normal: h is only that offset, and where the second patch ends at the
+/// seam while the first runs on past it (Ventilator.stp's blade faces, B-splines joined
+/// with G1 continuity), its projection clamps to its end, h stays flat, and the parabolas
+/// settle anywhere on the first surface: a point returned there is on neither surface
+/// (there: 0.07 from the seam, 4 edge lengths once the trace built on it). `None` then,
+/// and the caller's alternation finds the seam, the second patch's end.
 fn foot_on_tangent_seam(
     charts: &[SurfaceChart],
     params: &mut [[f64; 2]],
@@ -488,6 +496,16 @@ fn foot_on_tangent_seam(
     };
     // Offsets below this are round-off.
     let noise = 1e-14 * size;
+    // The midpoint of two feet, unless they are apart along the surfaces (beyond their
+    // offset along the normal) by more than the band and a hundredth of the seam segment:
+    // a clamped projection (on Ventilator.stp, half the segment; OpenCASCADE's fillet of a
+    // sphere, whose patch ends at the seam too, leaves its feet apart by 1e-4 of a length
+    // of 0.02-0.06 where its parabola vertex is right).
+    let close = band.max(ON_SURFACE * size).max(0.01 * norm(seam));
+    let settled = |y: [f64; 3], q: [f64; 3]| {
+        let along = (distance(y, q) - dot(normal, sub(q, y)).abs()).max(0.0);
+        (along <= close).then(|| scale(add(y, q), 0.5))
+    };
     let mut centre = 0.0;
     let mut step = 1e-4 * size;
     for _ in 0..SEAM_ITERATIONS {
@@ -502,7 +520,7 @@ fn foot_on_tangent_seam(
             // h is round-off across the stencil: the faces coincide here (two faces of one
             // cylinder, coplanar faces of stacked parts), and a parabola through noise
             // would jump anywhere along them.
-            return Some(scale(add(y, q), 0.5));
+            return settled(y, q);
         }
         // h ≈ h0 + b σ + c σ² about the centre.
         let b = (hp - hm) / (2.0 * step);
@@ -539,16 +557,20 @@ fn foot_on_tangent_seam(
             // uncertainty, or on them to the strict tolerance (faces farther apart do not
             // meet: the callers' fallbacks decide).
             let (_, y_next, q_next) = feet(centre + delta, params)?;
-            return Some(scale(add(y_next, q_next), 0.5));
+            return settled(y_next, q_next);
         }
         if !delta.is_finite() {
             // h constant: the faces coincide here (one surface split in two faces), or
             // never meet.
-            return (h0.abs() <= noise).then(|| scale(add(y, q), 0.5));
+            return if h0.abs() <= noise {
+                settled(y, q)
+            } else {
+                None
+            };
         }
         let delta = delta.clamp(-100.0 * step, 100.0 * step);
         if delta.abs() <= noise {
-            return Some(scale(add(y, q), 0.5));
+            return settled(y, q);
         }
         if h0.abs() <= noise {
             // On both surfaces to round-off. Where they touch, h is flat to round-off over a
@@ -556,10 +578,10 @@ fn foot_on_tangent_seam(
             // round-off too, else the fit is noise and the centre is kept.
             let (h, y_next, q_next) = feet(centre + delta, params)?;
             if h.abs() <= noise {
-                return Some(scale(add(y_next, q_next), 0.5));
+                return settled(y_next, q_next);
             }
             params.copy_from_slice(&centre_params);
-            return Some(scale(add(y, q), 0.5));
+            return settled(y, q);
         }
         centre += delta;
         step = (0.5 * delta.abs()).clamp(1e-9 * size, 1e-4 * size);

@@ -435,3 +435,60 @@ fn a_seam_where_a_cone_touches_a_torus_to_round_off_is_traced_on_both() {
         }
     }
 }
+
+#[test]
+fn a_vertex_on_faces_that_stay_close_is_not_slid_along_them() {
+    // Ventilator.stp: a vertex 1.5e-7 from a face that blends into its neighbour with a gap
+    // of ~1e-7 for millimetres; the seam solver slid it 1.85 mm (seven edge lengths) to
+    // where the gap was 1.3e-7. Here: the plane z = 0 and a face above it whose gap is a
+    // parabola in x, least at x = 1.4: 1.1e-7 (the file's uncertainty 1e-5 covers it), or
+    // touching (no uncertainty stated: the faces meet exactly there, but so nearly parallel
+    // that a point 1e-8 off is as good as on the seam).
+    let lifted = |z: [f64; 3]| {
+        let mut points = Vec::new();
+        for (x, z) in [-2.0, 0.0, 2.0].into_iter().zip(z) {
+            for y in [-2.0, 2.0] {
+                points.push([x, y, z]);
+            }
+        }
+        let knots_u = vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0];
+        NurbsSurface::new(
+            2,
+            1,
+            knots_u,
+            vec![0.0, 0.0, 1.0, 1.0],
+            points,
+            vec![1.0; 6],
+        )
+        .expect("lifted")
+    };
+    let cases = [
+        (Some(1e-5), [4e-7, 0.6e-7, 1.2e-7]),
+        (None, [1.156e-7, -0.204e-7, 0.036e-7]),
+    ];
+    for (uncertainty, z) in cases {
+        let geometry = GeometryModel::new(
+            vec![
+                GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane(0.0))),
+                GeometricEntity::new("lifted", "test", EntityGeometry::Surface(lifted(z))),
+            ],
+            uncertainty,
+        );
+        for x in [[0.5, 0.2, 0.0], [-0.5, 1.5, 0.0], [-1.9, -0.3, 0.0]] {
+            let y = crate::association::snap_onto(&geometry, &[0, 1], x);
+            let moved = norm(sub(y, x));
+            // Within the file's uncertainty of both, the point moves at most onto the other
+            // face; without one, at most 1e4 times its distance from them.
+            let off = geometry.entities[1].distance(x);
+            let reach = if uncertainty.is_some() {
+                1.01 * off
+            } else {
+                1e4 * off
+            };
+            assert!(
+                moved <= reach,
+                "{uncertainty:?}: {x:?} -> {y:?}, moved {moved:e}"
+            );
+        }
+    }
+}
