@@ -362,7 +362,7 @@ pub fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [
             // direction across is noise, and the solver slides along the seam to wherever
             // the gap is least (Ventilator.stp: 1.85 mm, seven edge lengths, from a
             // vertex 1.5e-7 off one face, for a gap 1.3e-7 instead of 1.5e-7). A foot is
-            // taken only within `SEAM_REACH` times the distance it removes: faces that
+            // taken only within `SEAM_REACH` times the point's distance from them: faces that
             // touch tangentially with relative curvature κ have their seam √(2d/κ) from a
             // point d off one of them, within reach unless κd < 2/SEAM_REACH².
             // And where y is already within the file's stated uncertainty of every entity
@@ -374,12 +374,7 @@ pub fn snap_onto(geometry: &GeometryModel, entities: &[usize], x: [f64; 3]) -> [
             match crate::feature::foot_on_seam_of(geometry, entities, x, &guess) {
                 Some(z) if distance(x, z) <= reach => {
                     let gap = off(z);
-                    let better = if within_band {
-                        gap <= ON_SEAM * size
-                    } else {
-                        gap < left
-                    };
-                    if better {
+                    if gap < left && (!within_band || gap <= ON_SEAM * size) {
                         z
                     } else {
                         y

@@ -503,7 +503,8 @@ fn foot_on_tangent_seam(
     // of 0.02-0.06 where its parabola vertex is right).
     let close = band.max(ON_SURFACE * size).max(0.01 * norm(seam));
     let settled = |y: [f64; 3], q: [f64; 3]| {
-        let along = (distance(y, q) - dot(normal, sub(q, y)).abs()).max(0.0);
+        let (d, h) = (distance(y, q), dot(normal, sub(q, y)));
+        let along = (d * d - h * h).max(0.0).sqrt();
         (along <= close).then(|| scale(add(y, q), 0.5))
     };
     let mut centre = 0.0;
@@ -651,7 +652,8 @@ pub(crate) fn foot_on_seam_of(
         }
     };
     let across = add(scale(e1, across[0]), scale(e2, across[1]));
-    let seam = cross(frame.normal, across);
+    // (A direction, its length the stencil's step: the scale of "apart along the faces".)
+    let seam = scale(unit(cross(frame.normal, across))?, step);
     let band = geometry.uncertainty.unwrap_or(0.0);
     foot_on_tangent_seam(&charts, &mut params, x, seam, (size, band))
 }

@@ -462,11 +462,16 @@ fn a_vertex_on_faces_that_stay_close_is_not_slid_along_them() {
         )
         .expect("lifted")
     };
+    // The third: gap 1.1e-7 + 1e-3 (x − 1.4)², a point 1e-3 from its least gap, within
+    // reach (1e4 × 1.11e-7): only the uncertainty rule keeps it where it is.
+    let far = [[0.5, 0.2, 0.0], [-0.5, 1.5, 0.0], [-1.9, -0.3, 0.0]];
+    let near = [[1.401, 0.2, 0.0], [1.3992, -1.0, 0.0], [1.4009, 1.7, 0.0]];
     let cases = [
-        (Some(1e-5), [4e-7, 0.6e-7, 1.2e-7]),
-        (None, [1.156e-7, -0.204e-7, 0.036e-7]),
+        (Some(1e-5), [4e-7, 0.6e-7, 1.2e-7], far),
+        (None, [1.156e-7, -0.204e-7, 0.036e-7], far),
+        (Some(1e-5), [0.01156011, -0.00203989, 0.00036011], near),
     ];
-    for (uncertainty, z) in cases {
+    for (uncertainty, z, points) in cases {
         let geometry = GeometryModel::new(
             vec![
                 GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane(0.0))),
@@ -474,7 +479,7 @@ fn a_vertex_on_faces_that_stay_close_is_not_slid_along_them() {
             ],
             uncertainty,
         );
-        for x in [[0.5, 0.2, 0.0], [-0.5, 1.5, 0.0], [-1.9, -0.3, 0.0]] {
+        for x in points {
             let y = crate::association::snap_onto(&geometry, &[0, 1], x);
             let moved = norm(sub(y, x));
             // Within the file's uncertainty of both, the point moves at most onto the other
