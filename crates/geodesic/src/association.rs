@@ -14,7 +14,14 @@
 //!    wall's boundary edge and two at distance h = its own shortest edge (a facet lying on
 //!    the surface is off it by the CAD–mesh mismatch, a tiny fraction of its edges).
 //!    Among the entities that pass, the one nearest the facet's centre (its worst vertex
-//!    distance when larger) wins: a facet with every vertex on the rim where a plane meets a
+//!    distance when larger) wins — unless others score within [`SCORE_TIE`] of it. Then the
+//!    facets of the same mesh entity (a mesh generator meshes each CAD face as one entity)
+//!    whose scores did tell their entity decide: the most common of those among the tied;
+//!    else the entity nearest the facet's vertices. A facet on a sharply curved blade face
+//!    of Ventilator.stp, beside the fillet it blends into, has its centre (a sagitta inside
+//!    the blade) 3.7e-3 from the blade and 3.4e-3 from the fillet's torus, but its vertices
+//!    within 1.1e-6 of the blade and up to 1.1e-3 from the torus. Decisive scores: a facet with every
+//!    vertex on the rim where a plane meets a
 //!    cylinder — three points of a coarsely split quarter-round, one of them the arc's middle
 //!    — is on both by its vertices, but spans the plane (centre on it) and cuts through the
 //!    cylinder (centre a sagitta inside it). Taking the cylinder would make the facet's
@@ -57,6 +64,12 @@ pub const DEFAULT_RELATIVE_TOLERANCE: f64 = 1e-4;
 /// The largest vertex distance, as a fraction of a facet's shortest edge, at which proximity
 /// still puts the facet on an entity (see the module doc).
 pub const PROXIMITY_EDGE_FRACTION: f64 = 0.1;
+
+/// Entities whose proximity scores for a facet (the larger of its centre's distance and
+/// its vertices') are within this factor of the least are not told apart by them: a
+/// facet's centre is off its own curved face by its sagitta, and off a face that face
+/// blends into by about as much (see the module doc).
+pub const SCORE_TIE: f64 = 2.0;
 
 /// Which entity each boundary facet lies on, and where its vertices go.
 #[derive(Debug, Clone, PartialEq)]
@@ -180,44 +193,76 @@ pub fn associate_boundary(
         };
         // Facet by facet in parallel: each scores its candidates by a point inversion of
         // its centre, independently of the others.
-        let nearest: Vec<Option<usize>> = mesh
+        let ranked: Vec<Vec<usize>> = mesh
             .facets
             .par_iter()
             .zip(facet_entity.par_iter())
             .map(|(facet, entity)| {
                 if entity.is_some() {
-                    return None;
+                    return Vec::new();
                 }
-                let mut best: Option<(f64, usize)> = None;
                 let reach =
                     tolerance.min(PROXIMITY_EDGE_FRACTION * shortest_edge(mesh, &facet.vertices));
                 let centre = centroid(mesh, &facet.vertices);
-                for (k, &e) in candidates.iter().enumerate() {
-                    let worst = facet
-                        .vertices
-                        .iter()
-                        .map(|&v| row(v)[k])
-                        .fold(0.0, f64::max);
-                    if worst > reach {
-                        continue;
-                    }
-                    // The score is at least `worst` and the centre's patch distance: when
-                    // either provably reaches the best so far, this entity cannot win.
-                    if best.is_some_and(|(d, _)| {
-                        worst >= d || geometry.entities[e].patch_is_farther_than(centre, d)
-                    }) {
-                        continue;
-                    }
-                    // Vertices on the curve where two surfaces meet are on both; the facet's
-                    // centre tells which one the facet spans, and its distance to the entity's
-                    // bounded patch which of several faces on one infinite surface it is on
-                    // (see the module doc).
-                    let score = worst.max(geometry.entities[e].patch_distance(centre));
-                    if best.is_none_or(|(d, _)| score < d) {
-                        best = Some((score, e));
+                // (score, largest vertex distance, entity) of each entity within reach.
+                // Vertices on the curve where two surfaces meet are on both; the facet's
+                // centre tells which one the facet spans, and its distance to the entity's
+                // bounded patch which of several faces on one infinite surface it is on
+                // (see the module doc).
+                let scored: Vec<(f64, f64, usize)> = candidates
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(k, &e)| {
+                        let worst = facet
+                            .vertices
+                            .iter()
+                            .map(|&v| row(v)[k])
+                            .fold(0.0, f64::max);
+                        (worst <= reach).then(|| {
+                            let score = worst.max(geometry.entities[e].patch_distance(centre));
+                            (score, worst, e)
+                        })
+                    })
+                    .collect();
+                // Scores within `SCORE_TIE` of the least do not tell the entities apart:
+                // nearest vertices first, then the nearest centre.
+                let least = scored.iter().map(|s| s.0).fold(f64::INFINITY, f64::min);
+                let mut tied: Vec<(f64, f64, usize)> = scored
+                    .into_iter()
+                    .filter(|s| s.0 <= SCORE_TIE * least)
+                    .collect();
+                tied.sort_by(|a, b| {
+                    a.1.total_cmp(&b.1)
+                        .then(a.0.total_cmp(&b.0))
+                        .then(a.2.cmp(&b.2))
+                });
+                tied.into_iter().map(|(_, _, e)| e).collect::<Vec<usize>>()
+            })
+            .collect();
+        // A facet between equally near entities goes with the facets of its mesh entity
+        // whose vertices told theirs apart (a mesh generator meshes each CAD face as one
+        // entity): the most common of those among its own candidates.
+        let mut decided: BTreeMap<(i32, usize), usize> = BTreeMap::new();
+        for (facet, tied) in mesh.facets.iter().zip(&ranked) {
+            if let [e] = tied[..] {
+                *decided.entry((facet.entity, e)).or_insert(0) += 1;
+            }
+        }
+        let nearest: Vec<Option<usize>> = mesh
+            .facets
+            .iter()
+            .zip(&ranked)
+            .map(|(facet, tied)| {
+                // The first (nearest by the vertices) among the most voted for, else the
+                // nearest.
+                let mut voted: Option<(usize, usize)> = None;
+                for &e in tied {
+                    let votes = decided.get(&(facet.entity, e)).copied().unwrap_or(0);
+                    if votes > voted.map_or(0, |(v, _)| v) {
+                        voted = Some((votes, e));
                     }
                 }
-                best.map(|(_, e)| e)
+                voted.map(|(_, e)| e).or_else(|| tied.first().copied())
             })
             .collect();
         for (entity, nearest) in facet_entity.iter_mut().zip(nearest) {

@@ -25,7 +25,7 @@ use hocurve_nurbs::inversion::closest_point_on_curve;
 #[cfg(test)]
 use hocurve_nurbs::inversion::closest_point_on_surface;
 use hocurve_nurbs::vec3::{add, cross, distance, dot, norm, scale, sub, unit};
-use hocurve_nurbs::{EntityGeometry, GeometricEntity, GeometryModel};
+use hocurve_nurbs::{EntityGeometry, GeometricEntity, GeometryModel, NurbsCurve};
 
 use crate::association::snap_onto;
 use crate::chart::SurfaceChart;
@@ -72,8 +72,9 @@ pub(crate) struct FeatureCurve<'a> {
     params: Vec<Vec<[f64; 2]>>,
     /// Cumulative lengths along `points`.
     lengths: Vec<f64>,
-    /// The model's curve entity through the edge, if any, and its index.
-    explicit: Option<(usize, CurveArc<'a>)>,
+    /// The modeller's curve through the edge (a curve entity, or the CAD edge between the
+    /// surfaces), if any.
+    explicit: Option<CurveArc<'a>>,
     /// The model's size (the scale of round-off in lengths).
     size: f64,
 }
@@ -178,10 +179,21 @@ impl<'a> FeatureCurve<'a> {
     ) -> Self {
         let charts = charts_of(geometry, surfaces);
         let size = geometry.size().max(f64::MIN_POSITIVE);
-        let (points, params) =
-            trace_intersection(geometry, &charts, surfaces, from, to, tolerance, size);
+        // The CAD edge between the surfaces needs no trace: its samples only guide the
+        // projections of the nodes onto the surfaces.
+        let (points, params, explicit) = match model_edge_arc(geometry, surfaces, from, to) {
+            Some(arc) => {
+                let (points, params) = arc_samples(geometry, &charts, surfaces, &arc, from, to);
+                (points, params, Some(arc))
+            }
+            None => {
+                let (points, params) =
+                    trace_intersection(geometry, &charts, surfaces, from, to, tolerance, size);
+                let explicit = explicit_curve(geometry, &points);
+                (points, params, explicit)
+            }
+        };
         let lengths = cumulative_lengths(&points);
-        let explicit = explicit_curve(geometry, &points);
         Self {
             geometry,
             surfaces: surfaces.to_vec(),
@@ -198,14 +210,14 @@ impl<'a> FeatureCurve<'a> {
     #[cfg(test)]
     pub(crate) fn length(&self) -> f64 {
         match &self.explicit {
-            Some((_, arc)) => arc.length,
+            Some(arc) => arc.length,
             None => self.lengths.last().copied().unwrap_or(0.0),
         }
     }
 
-    /// Index of the model's curve entity used, if any.
-    pub(crate) fn curve_entity(&self) -> Option<usize> {
-        self.explicit.as_ref().map(|(e, _)| *e)
+    /// Whether the nodes are placed on the modeller's curve (not on a traced intersection).
+    pub(crate) fn on_model_curve(&self) -> bool {
+        self.explicit.is_some()
     }
 
     /// The point at `fraction` of the length from the first vertex, on all surfaces.
@@ -220,7 +232,7 @@ impl<'a> FeatureCurve<'a> {
         }
         let (k, t, on_chord) = chord_point_at_fraction(&self.points, &self.lengths, fraction);
         let x = match &self.explicit {
-            Some((_, arc)) => arc.at(fraction),
+            Some(arc) => arc.at(fraction),
             None => on_chord,
         };
         let guess: Vec<[f64; 2]> = self.params[k]
@@ -229,7 +241,7 @@ impl<'a> FeatureCurve<'a> {
             .map(|(a, b)| [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])])
             .collect();
         let seam = sub(self.points[k + 1], self.points[k]);
-        foot_near(
+        let y = foot_near(
             self.geometry,
             &self.charts,
             &self.surfaces,
@@ -238,7 +250,31 @@ impl<'a> FeatureCurve<'a> {
             Some(seam),
             self.size,
         )
-        .0
+        .0;
+        if self.explicit.is_none() {
+            return y;
+        }
+        // On the modeller's curve, the foot is taken where it is the same point to the
+        // file's uncertainty; where it is not (faces nearly tangent, whose intersection runs
+        // anywhere within their gap), the curve's point is, when it is on every surface to
+        // that uncertainty: the modeller's edge, as Gmsh places its nodes.
+        let band = self
+            .geometry
+            .uncertainty
+            .unwrap_or(0.0)
+            .max(ON_SURFACE * self.size);
+        if distance(x, y) <= band {
+            return y;
+        }
+        let on_all = self
+            .surfaces
+            .iter()
+            .all(|&e| self.geometry.entities[e].distance(x) <= band);
+        if on_all {
+            x
+        } else {
+            y
+        }
     }
 
     /// Unit tangent at the first vertex (`at_end = false`) or the last (`true`), pointing
@@ -694,38 +730,99 @@ fn foot_by_local_alternation(
     (gap <= accepted_gap * size).then(|| scale(add(z, first.project_near(z, params[0]).1), 0.5))
 }
 
-/// The model's curve entity (with the arc on it from the first point to the last) through the
-/// traced polyline's ends and middle, if there is one.
-fn explicit_curve<'a>(
-    geometry: &'a GeometryModel,
-    points: &[[f64; 3]],
-) -> Option<(usize, CurveArc<'a>)> {
+/// The arc from the first point to the last on the model's curve entity through the traced
+/// polyline's ends and middle, if there is one.
+fn explicit_curve<'a>(geometry: &'a GeometryModel, points: &[[f64; 3]]) -> Option<CurveArc<'a>> {
     let (first, last) = (*points.first()?, *points.last()?);
     let middle = points[points.len() / 2];
     let tolerance = CURVE_MATCH_TOLERANCE * geometry.size().max(f64::MIN_POSITIVE);
-    geometry
-        .entities
+    geometry.entities.iter().find_map(|entity| {
+        let EntityGeometry::Curve(curve) = &entity.geometry else {
+            return None;
+        };
+        let near = [first, middle, last]
+            .iter()
+            .all(|&x| entity.distance(x) <= tolerance);
+        if !near {
+            return None;
+        }
+        let (a, b) = (
+            closest_point_on_curve(curve, first).param,
+            closest_point_on_curve(curve, last).param,
+        );
+        let arc = CurveArc::new(curve, a, b);
+        // A closed curve is taken the short way round: check that this is the traced way.
+        let on_arc = distance(arc.at(0.5), middle) <= tolerance + 0.25 * distance(first, last);
+        on_arc.then_some(arc)
+    })
+}
+
+/// The arc from `from` to `to` on the CAD edge between `surfaces` (the model's
+/// [`hocurve_nurbs::ModelEdge`]s) through both points, to the file's uncertainty (or
+/// [`CURVE_MATCH_TOLERANCE`] of the model where that is larger), the nearest such edge when
+/// several bound the same surfaces.
+fn model_edge_arc<'a>(
+    geometry: &'a GeometryModel,
+    surfaces: &[usize],
+    from: [f64; 3],
+    to: [f64; 3],
+) -> Option<CurveArc<'a>> {
+    if geometry.edges.is_empty() || surfaces.len() < 2 {
+        return None;
+    }
+    let mut faces = surfaces.to_vec();
+    faces.sort_unstable();
+    let reach = (CURVE_MATCH_TOLERANCE * geometry.size().max(f64::MIN_POSITIVE))
+        .max(geometry.uncertainty.unwrap_or(0.0));
+    let mut best: Option<(f64, f64, f64, &NurbsCurve)> = None;
+    for edge in geometry.edges_between(&faces) {
+        let (a, b) = (
+            closest_point_on_curve(&edge.curve, from),
+            closest_point_on_curve(&edge.curve, to),
+        );
+        let off = distance(a.point, from).max(distance(b.point, to));
+        if off <= reach && best.is_none_or(|(d, ..)| off < d) {
+            best = Some((off, a.param, b.param, &edge.curve));
+        }
+    }
+    let (_, a, b, curve) = best?;
+    Some(CurveArc::new(curve, a, b))
+}
+
+/// Points along `arc` at equal fractions of its length, its ends replaced by `from` and
+/// `to`, with their parameters on each of `surfaces` (unrolled along the arc): the guides of
+/// the projections of the nodes placed on it.
+fn arc_samples(
+    geometry: &GeometryModel,
+    charts: &[SurfaceChart],
+    surfaces: &[usize],
+    arc: &CurveArc,
+    from: [f64; 3],
+    to: [f64; 3],
+) -> (Vec<[f64; 3]>, Vec<Vec<[f64; 2]>>) {
+    let entities: Vec<&GeometricEntity> = surfaces
         .iter()
-        .enumerate()
-        .find_map(|(index, entity)| {
-            let EntityGeometry::Curve(curve) = &entity.geometry else {
-                return None;
-            };
-            let near = [first, middle, last]
-                .iter()
-                .all(|&x| entity.distance(x) <= tolerance);
-            if !near {
-                return None;
-            }
-            let (a, b) = (
-                closest_point_on_curve(curve, first).param,
-                closest_point_on_curve(curve, last).param,
-            );
-            let arc = CurveArc::new(curve, a, b);
-            // A closed curve is taken the short way round: check that this is the traced way.
-            let on_arc = distance(arc.at(0.5), middle) <= tolerance + 0.25 * distance(first, last);
-            on_arc.then_some((index, arc))
+        .filter_map(|&e| geometry.entities.get(e))
+        .filter(|e| !e.is_curve())
+        .collect();
+    let points: Vec<[f64; 3]> = (0..=MIN_SEGMENTS)
+        .map(|k| match k {
+            0 => from,
+            k if k == MIN_SEGMENTS => to,
+            k => arc.at(k as f64 / MIN_SEGMENTS as f64),
         })
+        .collect();
+    let mut params: Vec<Vec<[f64; 2]>> = Vec::with_capacity(points.len());
+    for x in &points {
+        let mut uv: Vec<[f64; 2]> = entities.iter().map(|e| e.closest_point(*x).param).collect();
+        if let Some(last) = params.last() {
+            for ((p, c), q) in uv.iter_mut().zip(charts).zip(last) {
+                *p = c.unroll_near(*p, *q);
+            }
+        }
+        params.push(uv);
+    }
+    (points, params)
 }
 
 #[cfg(test)]

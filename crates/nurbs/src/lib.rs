@@ -35,6 +35,6 @@ pub mod vec3;
 pub use curve::NurbsCurve;
 pub use error::NurbsError;
 pub use json::{parse_geometry_json, read_geometry_json, GeometryInputError};
-pub use model::{EntityGeometry, EntityPoint, GeometricEntity, GeometryModel};
+pub use model::{EntityGeometry, EntityPoint, GeometricEntity, GeometryModel, ModelEdge};
 pub use naca::Naca4;
 pub use surface::{NurbsSurface, SurfaceDerivatives, SurfaceProperties};

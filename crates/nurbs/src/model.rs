@@ -241,12 +241,29 @@ impl GeometricEntity {
     }
 }
 
+/// A CAD edge of a 3D model: the curve the modeller gave the seam where faces meet. Faces
+/// that meet tangentially (a blade's B-spline beside a linear extrusion, ~1e-5 apart over a
+/// whole edge length) have no well-defined intersection to trace: their edge is this curve,
+/// as Gmsh and OpenCASCADE take it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ModelEdge {
+    /// Where the edge came from, for messages (e.g. `"STEP #812 EDGE_CURVE (line 900)"`).
+    pub origin: String,
+    /// The edge's curve (a B-spline curve whole, or the piece between the edge's vertices).
+    pub curve: NurbsCurve,
+    /// The surface entities (indices into [`GeometryModel::entities`]) it bounds, ascending.
+    pub faces: Vec<usize>,
+}
+
 /// A set of named curves and surfaces.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct GeometryModel {
     /// The entities, in input order. Their geometry is not to change once [`Self::size`]
     /// has been asked (it is kept).
     pub entities: Vec<GeometricEntity>,
+    /// The CAD edges between the surface entities, where the source has its topology (STEP
+    /// B-reps); empty otherwise. Not entities: no facet is associated with them.
+    pub edges: Vec<ModelEdge>,
     /// The distance to which the file says its entities meet, in the model's length unit
     /// (millimetres for STEP and IGES): STEP's `UNCERTAINTY_MEASURE_WITH_UNIT` of a length,
     /// IGES's minimum user-intended resolution (Global parameter 19). Faces a modeller made
@@ -274,9 +291,18 @@ impl GeometryModel {
     pub fn new(entities: Vec<GeometricEntity>, uncertainty: Option<f64>) -> Self {
         GeometryModel {
             entities,
+            edges: Vec::new(),
             uncertainty,
             size: ModelSize::default(),
         }
+    }
+
+    /// The CAD edges bounding every one of `faces` (entity indices, ascending).
+    pub fn edges_between(&self, faces: &[usize]) -> Vec<&ModelEdge> {
+        self.edges
+            .iter()
+            .filter(|e| faces.iter().all(|f| e.faces.binary_search(f).is_ok()))
+            .collect()
     }
 
     /// The entity called `name`, if any.

@@ -208,7 +208,7 @@ pub fn place_boundary_nodes_reusing<'a>(
     for ((vertices, _), c) in edges.iter().zip(carriers) {
         let c = c?;
         if let EdgeCarrier::Feature(f) = &c {
-            if f.curve_entity().is_some() {
+            if f.on_model_curve() {
                 out.feature_edges_on_curves += 1;
             } else {
                 out.feature_edges_traced += 1;

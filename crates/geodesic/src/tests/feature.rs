@@ -235,10 +235,10 @@ fn kept_feature_traces_are_the_traced_curves() {
     assert_eq!(traces.len(), 2);
     // The same key on another model (the same surfaces, and the rim as a curve entity):
     // traced on that model, which finds its curve.
-    assert!(first.curve_entity().is_none());
+    assert!(!first.on_model_curve());
     let other = model(0.0, true);
     let on_other = traces.between(&other, &[0, 1], a, b, 1e-12);
-    assert!(on_other.curve_entity().is_some());
+    assert!(on_other.on_model_curve());
     assert_eq!(traces.len(), 2);
 }
 
@@ -496,4 +496,66 @@ fn a_vertex_on_faces_that_stay_close_is_not_slid_along_them() {
             );
         }
     }
+}
+
+#[test]
+fn a_feature_edge_on_a_cad_edge_between_nearly_tangent_faces_lies_on_that_edge() {
+    // Ventilator.stp: a blade's B-spline face beside a linear extrusion, ~1e-5 apart and
+    // nearly tangent along their common edge; their "intersection" runs anywhere within the
+    // gap, and the nodes traced on it were placed edge lengths away from the CAD edge. Here:
+    // the plane z = 0 and a face above it with gap 1.1e-7 + 1e-3 (x − 1.4)² (uncertainty
+    // 1e-5), their CAD edge the line x = 1.41, where the gap is 2.1e-7; the least gap, where
+    // a trace goes, is 0.01 away.
+    let points: Vec<[f64; 3]> = [-2.0, 0.0, 2.0]
+        .into_iter()
+        .zip([0.01156011, -0.00203989, 0.00036011])
+        .flat_map(|(x, z)| [[x, -2.0, z], [x, 2.0, z]])
+        .collect();
+    let lifted = NurbsSurface::new(
+        2,
+        1,
+        vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0],
+        vec![0.0, 0.0, 1.0, 1.0],
+        points,
+        vec![1.0; 6],
+    )
+    .expect("lifted");
+    let line = |x: f64| {
+        hocurve_nurbs::NurbsCurve::new(
+            1,
+            vec![0.0, 0.0, 1.0, 1.0],
+            vec![[x, -1.5, 0.0], [x, 1.5, 0.0]],
+            vec![1.0; 2],
+        )
+        .expect("line")
+    };
+    let mut geometry = GeometryModel::new(
+        vec![
+            GeometricEntity::new("plane", "test", EntityGeometry::Surface(plane(0.0))),
+            GeometricEntity::new("lifted", "test", EntityGeometry::Surface(lifted)),
+        ],
+        Some(1e-5),
+    );
+    let edge = |x: f64| hocurve_nurbs::ModelEdge {
+        origin: "test".into(),
+        curve: line(x),
+        faces: vec![0, 1],
+    };
+    // An edge of the same faces elsewhere is not this one's carrier.
+    geometry.edges = vec![edge(1.5), edge(1.41)];
+    let (a, b) = ([1.41, -1.0, 0.0], [1.41, 1.0, 0.0]);
+    let curve = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);
+    assert!(curve.on_model_curve());
+    for f in [0.1, 0.25, 0.5, 0.9] {
+        let x = curve.at(f);
+        let expected = [1.41, -1.0 + 2.0 * f, 0.0];
+        assert!(norm(sub(x, expected)) <= 1e-5, "{f}: {x:?}");
+        for e in &geometry.entities {
+            assert!(e.distance(x) <= 1e-5, "{f}: {x:?} {:e}", e.distance(x));
+        }
+    }
+    // Without it, the edge is traced (no model edge through its vertices).
+    geometry.edges = vec![edge(1.5)];
+    let traced = FeatureCurve::between(&geometry, &[0, 1], a, b, 1e-12);
+    assert!(!traced.on_model_curve());
 }

@@ -526,3 +526,78 @@ fn a_facet_on_one_of_two_coaxial_faces_goes_to_the_face_that_holds_it() {
     assert_eq!(a.facet_entity, [Some(1)]);
     assert_eq!(a.vertex_entities[&0], [1]);
 }
+
+/// Two faces that blend: the cylinder S1 of radius 1 and, inside it, S2 of radius 0.99,
+/// tangent to it along the line x = z = 0 (a sharply curved blade face and the fillet it
+/// blends into, as in Ventilator.stp). A facet on S1 across the first 0.3 rad has its centre
+/// nearer S2 (a sagitta inside S1, less inside S2) but its vertices on S1: the scores tie
+/// within `SCORE_TIE`, the vertices decide. A facet whose vertices lie on S2 goes to S2 —
+/// unless the other facets of its mesh entity are decidedly on S1 (a mesh whose vertices
+/// are off its CAD by more than the faces' gap: the mesh generator's entity knows better).
+#[test]
+fn facets_between_faces_that_blend_go_by_their_vertices_then_their_mesh_entity() {
+    use hocurve_mesh::{Element, Shape};
+    use hocurve_nurbs::shapes::cylinder;
+    use std::collections::BTreeMap;
+    let d = 0.01;
+    // Points on S1 and on S2 at angle t from the tangent line, y along the axes.
+    let s1 = |t: f64, y: f64| [t.sin(), y, 1.0 - t.cos()];
+    let s2 = |t: f64, y: f64| [(1.0 - d) * t.sin(), y, 1.0 - (1.0 - d) * t.cos() - d];
+    let vertices = vec![
+        s1(0.0, 0.0),
+        s1(0.3, 0.0),
+        s1(0.3, 0.4),
+        s1(2.0, 0.0),
+        s1(2.4, 0.0),
+        s1(2.2, 0.4),
+        s2(0.3, 1.0),
+        s2(0.3, 1.4),
+        s2(0.0, 1.2),
+    ];
+    let triangle = |v: [u32; 3], entity: i32| Element {
+        kind: Shape::Tri,
+        vertices: v.to_vec(),
+        entity,
+    };
+    let mesh = LinearMesh {
+        dim: 3,
+        vertices,
+        cells: Vec::new(),
+        facets: vec![
+            triangle([0, 1, 2], 7),
+            triangle([3, 4, 5], 8),
+            triangle([6, 7, 8], 8),
+            triangle([6, 7, 8], 9),
+        ],
+        physical_groups: Vec::new(),
+        entity_physicals: BTreeMap::new(),
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
+    };
+    let face = |name: &str, radius: f64| {
+        GeometricEntity::new(
+            name,
+            "test",
+            EntityGeometry::Surface(
+                cylinder([0.0, 0.0, radius], [0.0, 1.0, 0.0], radius, (-2.0, 2.0))
+                    .expect("cylinder"),
+            ),
+        )
+    };
+    let model = GeometryModel::new(vec![face("S2", 1.0 - d), face("S1", 1.0)], None);
+    // The first facet's centre is nearer S2.
+    let centre = [
+        (0.3f64.sin()) * 2.0 / 3.0,
+        0.4 / 3.0,
+        (1.0 - 0.3f64.cos()) * 2.0 / 3.0,
+    ];
+    let (to_s2, to_s1) = (
+        model.entities[0].patch_distance(centre),
+        model.entities[1].patch_distance(centre),
+    );
+    assert!(to_s2 < to_s1 && to_s1 < 2.0 * to_s2, "{to_s2:e} {to_s1:e}");
+    let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, Some(0.01))
+        .expect("ok");
+    assert_eq!(a.facet_entity, [Some(1), Some(1), Some(1), Some(0)]);
+}

@@ -12,6 +12,9 @@
 //! - A 2D model (every face a plane, all in one plane) is its edges (`EDGE_CURVE` on `LINE`,
 //!   `CIRCLE`, `ELLIPSE` and B-spline curves, through `SURFACE_CURVE`, `SEAM_CURVE` and
 //!   `TRIMMED_CURVE`), each between its vertices, duplicates removed.
+//! - A 3D model also keeps its edges ([`ModelEdge`]): the curve of each `EDGE_CURVE` bounding
+//!   two of its faces, with the faces, so that a feature edge between them lies on the
+//!   modeller's curve rather than on a traced intersection.
 //! - Placements (`AXIS2_PLACEMENT_3D`) are applied, and the parts of an assembly are put in
 //!   place by their representation relationships ([`super::placements`]), once per
 //!   occurrence.
@@ -27,10 +30,13 @@ use std::path::Path;
 
 use super::error::StepError;
 use super::parse::{read_step, StepFile, StepInstance, StepValue};
-use crate::iges::affine::{transform_curve, transform_shape, transform_surface, IDENTITY};
-use crate::model::{EntityGeometry, GeometricEntity, GeometryModel};
+use std::collections::BTreeMap;
+
+use crate::iges::affine::{transform_curve, transform_shape, transform_surface, Affine, IDENTITY};
+use crate::model::{EntityGeometry, GeometricEntity, GeometryModel, ModelEdge};
 use crate::shapes::AnalyticShape;
 use crate::vec3::{cross, dot, norm, scale, sub};
+use crate::NurbsCurve;
 
 /// How deep references are followed (STEP geometry is a few levels deep; a cycle is not).
 pub(super) const MAX_DEPTH: usize = 64;
@@ -115,7 +121,7 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
     for (i, kind, geometry, analytic) in converted {
         for t in placements.of(i.id) {
             if t == IDENTITY {
-                placed.push((i, kind.clone(), geometry.clone(), analytic));
+                placed.push((i, kind.clone(), geometry.clone(), analytic, t));
                 continue;
             }
             let moved = match &geometry {
@@ -132,12 +138,12 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
                 kind.clone(),
                 moved,
                 analytic.and_then(|a| transform_shape(a, &t)),
+                t,
             ));
         }
     }
     // The same curve written twice (a model and its copy in another representation).
-    let mut unique: Vec<(&StepInstance, String, EntityGeometry, Option<AnalyticShape>)> =
-        Vec::new();
+    let mut unique: Vec<Placed> = Vec::new();
     for item in placed {
         let duplicate = unique.iter().any(|u| match (&u.2, &item.2) {
             (EntityGeometry::Curve(a), EntityGeometry::Curve(b)) => a == b,
@@ -147,14 +153,183 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
             unique.push(item);
         }
     }
-    let converted = unique;
-    if converted.is_empty() {
+    if unique.is_empty() {
         return Err(StepError::Empty);
     }
-    Ok(GeometryModel::new(
-        name_entities(converted),
+    let edges = c.model_edges(&unique);
+    let mut model = GeometryModel::new(
+        name_entities(
+            unique
+                .into_iter()
+                .map(|(i, k, g, a, _)| (i, k, g, a))
+                .collect(),
+        ),
         c.length_uncertainty()?,
-    ))
+    );
+    model.edges = edges;
+    Ok(model)
+}
+
+/// A converted item in place: its instance, kind, geometry, closed form and placement.
+type Placed<'a> = (
+    &'a StepInstance,
+    String,
+    EntityGeometry,
+    Option<AnalyticShape>,
+    Affine,
+);
+
+impl Converter<'_> {
+    /// The CAD edges between the faces among `entities` (in their order: entity indices),
+    /// each once per placement, with the faces it bounds. An edge whose curve cannot be
+    /// converted is left out: its seam is then traced as the faces' intersection, as for
+    /// a model without edges.
+    fn model_edges(&self, entities: &[Placed]) -> Vec<ModelEdge> {
+        let mut curves: BTreeMap<u64, Option<NurbsCurve>> = BTreeMap::new();
+        let mut edges: Vec<ModelEdge> = Vec::new();
+        let mut index: BTreeMap<(u64, Vec<u64>), usize> = BTreeMap::new();
+        for (k, (face, _, geometry, _, t)) in entities.iter().enumerate() {
+            if !matches!(geometry, EntityGeometry::Surface(_)) {
+                continue;
+            }
+            for edge in self.face_edges(face).unwrap_or_default() {
+                let key = (edge.id, t.iter().flatten().map(|x| x.to_bits()).collect());
+                if let Some(&e) = index.get(&key) {
+                    if !edges[e].faces.contains(&k) {
+                        edges[e].faces.push(k);
+                    }
+                    continue;
+                }
+                let curve = curves
+                    .entry(edge.id)
+                    .or_insert_with(|| self.edge_curve(edge, 0).ok())
+                    .clone();
+                let Some(curve) = curve else { continue };
+                let curve = if *t == IDENTITY {
+                    Some(curve)
+                } else {
+                    transform_curve(curve, t).ok()
+                };
+                let Some(curve) = curve else { continue };
+                index.insert(key, edges.len());
+                edges.push(ModelEdge {
+                    origin: format!("STEP #{} EDGE_CURVE (line {})", edge.id, edge.line),
+                    curve,
+                    faces: vec![k],
+                });
+            }
+        }
+        // Only seams between faces: an edge of one face alone (a periodic face's own seam,
+        // a free boundary) carries no feature edge.
+        edges.retain(|e| e.faces.len() >= 2);
+        // Faces on one surface (written once per face with the same parameters: the twelve
+        // fillet faces of Ventilator.stp around one torus) are one surface to the
+        // association, which may put a facet on any of them: the edge bounds them all.
+        let twins = same_surfaces(entities);
+        for e in &mut edges {
+            let mut faces: Vec<usize> = e.faces.iter().flat_map(|&f| twins[f].clone()).collect();
+            faces.sort_unstable();
+            faces.dedup();
+            e.faces = faces;
+        }
+        edges
+    }
+}
+
+/// For each item, the surface items on the same surface (itself included; none for a
+/// curve): the same B-spline, or the same closed form — a cone written once per face with
+/// its seam turned is one cone, whose faces all hold every point of it.
+fn same_surfaces(entities: &[Placed]) -> Vec<Vec<usize>> {
+    let n = entities.len();
+    // Union–find over the items.
+    let mut parent: Vec<usize> = (0..n).collect();
+    fn root(parent: &mut [usize], mut k: usize) -> usize {
+        while parent[k] != k {
+            parent[k] = parent[parent[k]];
+            k = parent[k];
+        }
+        k
+    }
+    let surface = |k: usize| match &entities[k].2 {
+        EntityGeometry::Surface(s) => Some(s),
+        EntityGeometry::Curve(_) => None,
+    };
+    // The same B-spline: grouped by a cheap key first (the net's size and corners), then
+    // compared in full.
+    let mut by_net: BTreeMap<(usize, [u64; 6]), Vec<usize>> = BTreeMap::new();
+    for k in 0..n {
+        let Some(s) = surface(k) else { continue };
+        let (Some(a), Some(b)) = (s.control_points.first(), s.control_points.last()) else {
+            continue;
+        };
+        let key = (
+            s.control_points.len(),
+            [a[0], a[1], a[2], b[0], b[1], b[2]].map(f64::to_bits),
+        );
+        let bucket = by_net.entry(key).or_default();
+        if let Some(&j) = bucket.iter().find(|&&j| entities[j].2 == entities[k].2) {
+            let (a, b) = (root(&mut parent, j), root(&mut parent, k));
+            parent[b] = a;
+        } else {
+            bucket.push(k);
+        }
+    }
+    // The same closed form: each one's samples on the other's shape, among shapes of one
+    // kind whose sizes agree (sorted by size, so only neighbours are compared).
+    let mut analytic: Vec<(u8, f64, usize)> = (0..n)
+        .filter(|&k| surface(k).is_some())
+        .filter_map(|k| {
+            let (kind, size) = match entities[k].3? {
+                AnalyticShape::Sphere { radius, .. } => (0, radius),
+                AnalyticShape::Cylinder { radius, .. } => (1, radius),
+                AnalyticShape::Cone { half_angle, .. } => (2, half_angle),
+                AnalyticShape::Torus { major_radius, .. } => (3, major_radius),
+                AnalyticShape::Circle { .. } => return None,
+            };
+            Some((kind, size, k))
+        })
+        .collect();
+    analytic.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
+    let on_shape_of = |k: usize, other: usize| -> bool {
+        let (Some(s), Some(shape)) = (surface(k), entities[other].3.as_ref()) else {
+            return false;
+        };
+        let ((u0, u1), (v0, v1)) = s.domain();
+        (0..3).all(|i| {
+            (0..3).all(|j| {
+                let x = s.point(
+                    u0 + (u1 - u0) * i as f64 / 2.0,
+                    v0 + (v1 - v0) * j as f64 / 2.0,
+                );
+                shape.closest_point(x).distance <= SAME * (1.0 + norm(x))
+            })
+        })
+    };
+    for (i, &(kind, size, k)) in analytic.iter().enumerate() {
+        for &(other_kind, other_size, other) in &analytic[i + 1..] {
+            if other_kind != kind || other_size - size > SAME * (1.0 + size.abs()) {
+                break;
+            }
+            if on_shape_of(k, other) && on_shape_of(other, k) {
+                let (a, b) = (root(&mut parent, k), root(&mut parent, other));
+                parent[b] = a;
+            }
+        }
+    }
+    let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
+    for k in 0..n {
+        if surface(k).is_some() {
+            let r = root(&mut parent, k);
+            groups.entry(r).or_default().push(k);
+        }
+    }
+    let mut twins = vec![Vec::new(); n];
+    for group in groups.into_values() {
+        for &k in &group {
+            twins[k] = group.clone();
+        }
+    }
+    twins
 }
 
 /// Names and origins (see the module documentation).

@@ -343,6 +343,52 @@ ENDSEC;\nEND-ISO-10303-21;"
         .filter(|e| e.origin.contains("on PLANE"))
         .count();
     assert_eq!(planes, 6 + 2 + 2 * 2);
+    // The cone's edges are carried with it: each lies on the faces it bounds.
+    check_edges_on_their_faces(&model, "shapes.step with a cone placed twice");
+}
+
+/// Every model edge lies on each face it bounds, along its whole curve, to the file's
+/// uncertainty (or 1e-9 of the model).
+fn check_edges_on_their_faces(model: &GeometryModel, what: &str) {
+    let tolerance = model.uncertainty.unwrap_or(0.0).max(1e-9 * model.size());
+    for edge in &model.edges {
+        assert!(edge.faces.len() >= 2, "{what}: {}", edge.origin);
+        let (t0, t1) = edge.curve.domain();
+        for k in 0..=16 {
+            let x = edge.curve.point(t0 + (t1 - t0) * k as f64 / 16.0);
+            for &f in &edge.faces {
+                let d = model.entities[f].distance(x);
+                assert!(
+                    d <= tolerance,
+                    "{what}: {} at {x:?} is {d:e} from {}",
+                    edge.origin,
+                    model.entities[f].name
+                );
+            }
+        }
+    }
+}
+
+/// A 3D model keeps its CAD edges between faces (the carriers of the feature edges between
+/// them): every edge between two faces, on both, and none of a face alone.
+#[test]
+fn the_edges_between_faces_are_kept_on_their_faces() {
+    // (file, its EDGE_CURVEs less those on a SEAM_CURVE, which bound one face twice)
+    for (name, between) in [
+        ("cone_plate.step", 19 - 3),
+        ("filleted_boss.step", 19 - 3),
+        ("sphere_on_block.step", 16 - 2),
+        ("tee_pipes.step", 8 - 3),
+        ("twisted_loft.step", 3 - 1),
+        ("wing_body.step", 12),
+    ] {
+        let model = read_step_geometry(&fixture(name)).unwrap();
+        assert_eq!(model.edges.len(), between, "{name}");
+        check_edges_on_their_faces(&model, name);
+    }
+    // A 2D model's edges are its entities, not model edges.
+    let flat = read_step_geometry(&fixture("naca_layers_2d.step")).unwrap();
+    assert!(flat.edges.is_empty());
 }
 
 /// A face on a `RECTANGULAR_TRIMMED_SURFACE` lies on its basis surface (here the sphere,
@@ -428,4 +474,56 @@ fn the_files_stated_uncertainty_is_read_in_millimetres() {
     let bare = text.replace("UNCERTAINTY_MEASURE_WITH_UNIT", "UNKNOWN_MEASURE_WITH_UNIT");
     let model = geometry_from_step(&parse_step(bare.as_bytes()).unwrap()).unwrap();
     assert_eq!(model.uncertainty, None);
+}
+
+/// Faces on one surface are found whatever their patches: two faces of one infinite
+/// cylinder (different extents, as a cone or cylinder written once per face with its seam
+/// turned) and two copies of one B-spline are each one surface; a cylinder of another radius
+/// and another B-spline are not.
+#[test]
+fn faces_on_one_surface_are_grouped_whatever_their_patches() {
+    use crate::shapes::{bilinear_patch, cylinder};
+    let file = parse_step(step_text("#1 = CARTESIAN_POINT('',(0.,0.,0.));\n").as_bytes()).unwrap();
+    let instance = file.instances.values().next().unwrap();
+    let on_cylinder = |radius: f64, range: (f64, f64)| -> Placed {
+        (
+            instance,
+            String::new(),
+            EntityGeometry::Surface(cylinder([0.0; 3], [0.0, 0.0, 1.0], radius, range).unwrap()),
+            Some(AnalyticShape::new_cylinder([0.0, 0.0, 5.0], [0.0, 0.0, -1.0], radius).unwrap()),
+            IDENTITY,
+        )
+    };
+    let patch = |z: f64| -> Placed {
+        let c = |x: f64, y: f64| [x, y, z * x * y];
+        (
+            instance,
+            String::new(),
+            EntityGeometry::Surface(
+                bilinear_patch([[c(0.0, 0.0), c(0.0, 1.0)], [c(1.0, 0.0), c(1.0, 1.0)]]).unwrap(),
+            ),
+            None,
+            IDENTITY,
+        )
+    };
+    let items = vec![
+        on_cylinder(1.0, (0.0, 1.0)),
+        patch(1.0),
+        on_cylinder(1.0, (2.0, 3.0)),
+        on_cylinder(1.1, (0.0, 1.0)),
+        patch(1.0),
+        patch(2.0),
+    ];
+    let twins = same_surfaces(&items);
+    assert_eq!(
+        twins,
+        [
+            vec![0, 2],
+            vec![1, 4],
+            vec![0, 2],
+            vec![3],
+            vec![1, 4],
+            vec![5]
+        ]
+    );
 }
