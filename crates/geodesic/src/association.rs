@@ -15,9 +15,9 @@
 //!    the surface is off it by the CAD–mesh mismatch, a tiny fraction of its edges).
 //!    Among the entities that pass, the one nearest the facet's centre (its worst vertex
 //!    distance when larger) wins — unless others score within [`SCORE_TIE`] of it. Then the
-//!    facets of the same mesh entity (a mesh generator meshes each CAD face as one entity)
-//!    whose scores did tell their entity decide: the most common of those among the tied;
-//!    else the entity nearest the facet's vertices. A facet on a sharply curved blade face
+//!    facet's mesh entity decides (a mesh generator meshes each CAD face as one entity): the
+//!    entity within reach of every facet of it (of several, the one nearest all their
+//!    vertices), if it is among the tied; else the one nearest the facet's vertices. A facet on a sharply curved blade face
 //!    of Ventilator.stp, beside the fillet it blends into, has its centre (a sagitta inside
 //!    the blade) 3.7e-3 from the blade and 3.4e-3 from the fillet's torus, but its vertices
 //!    within 1.1e-6 of the blade and up to 1.1e-3 from the torus. Decisive scores: a facet with every
@@ -70,6 +70,10 @@ pub const PROXIMITY_EDGE_FRACTION: f64 = 0.1;
 /// facet's centre is off its own curved face by its sagitta, and off a face that face
 /// blends into by about as much (see the module doc).
 pub const SCORE_TIE: f64 = 2.0;
+
+/// A facet's tied candidates (first the one to take), and every entity within reach with
+/// the facet's largest vertex distance from it, by entity index.
+type Ranking = (Vec<usize>, Vec<(usize, f64)>);
 
 /// Which entity each boundary facet lies on, and where its vertices go.
 #[derive(Debug, Clone, PartialEq)]
@@ -193,13 +197,13 @@ pub fn associate_boundary(
         };
         // Facet by facet in parallel: each scores its candidates by a point inversion of
         // its centre, independently of the others.
-        let ranked: Vec<Vec<usize>> = mesh
+        let ranked: Vec<Ranking> = mesh
             .facets
             .par_iter()
             .zip(facet_entity.par_iter())
             .map(|(facet, entity)| {
                 if entity.is_some() {
-                    return Vec::new();
+                    return (Vec::new(), Vec::new());
                 }
                 let reach =
                     tolerance.min(PROXIMITY_EDGE_FRACTION * shortest_edge(mesh, &facet.vertices));
@@ -227,6 +231,8 @@ pub fn associate_boundary(
                 // Scores within `SCORE_TIE` of the least do not tell the entities apart:
                 // nearest vertices first, then the nearest centre.
                 let least = scored.iter().map(|s| s.0).fold(f64::INFINITY, f64::min);
+                let mut within: Vec<(usize, f64)> = scored.iter().map(|s| (s.2, s.1)).collect();
+                within.sort_unstable_by_key(|w| w.0);
                 let mut tied: Vec<(f64, f64, usize)> = scored
                     .into_iter()
                     .filter(|s| s.0 <= SCORE_TIE * least)
@@ -236,33 +242,54 @@ pub fn associate_boundary(
                         .then(a.0.total_cmp(&b.0))
                         .then(a.2.cmp(&b.2))
                 });
-                tied.into_iter().map(|(_, _, e)| e).collect::<Vec<usize>>()
+                (
+                    tied.into_iter().map(|(_, _, e)| e).collect::<Vec<usize>>(),
+                    within,
+                )
             })
             .collect();
-        // A facet between equally near entities goes with the facets of its mesh entity
-        // whose vertices told theirs apart (a mesh generator meshes each CAD face as one
-        // entity): the most common of those among its own candidates.
-        let mut decided: BTreeMap<(i32, usize), usize> = BTreeMap::new();
-        for (facet, tied) in mesh.facets.iter().zip(&ranked) {
-            if let [e] = tied[..] {
-                *decided.entry((facet.entity, e)).or_insert(0) += 1;
+        // A facet between equally near entities goes with its mesh entity (a mesh generator
+        // meshes each CAD face as one entity): to the entity within reach of every facet of
+        // it — the nearest to all their vertices where several are (one face for all, so
+        // that no feature edge runs between two faces that nearly coincide) — when that is
+        // among its own.
+        let mut common: BTreeMap<i32, Vec<(usize, f64)>> = BTreeMap::new();
+        for (facet, (_, within)) in mesh.facets.iter().zip(&ranked) {
+            if within.is_empty() {
+                continue;
             }
+            common
+                .entry(facet.entity)
+                .and_modify(|c| {
+                    c.retain_mut(|(e, total)| match within.binary_search_by_key(e, |w| w.0) {
+                        Ok(k) => {
+                            *total += within[k].1;
+                            true
+                        }
+                        Err(_) => false,
+                    })
+                })
+                .or_insert_with(|| within.clone());
         }
+        let face_of: BTreeMap<i32, usize> = common
+            .into_iter()
+            .filter_map(|(tag, c)| {
+                let nearest = c
+                    .into_iter()
+                    .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))?;
+                Some((tag, nearest.0))
+            })
+            .collect();
         let nearest: Vec<Option<usize>> = mesh
             .facets
             .iter()
             .zip(&ranked)
-            .map(|(facet, tied)| {
-                // The first (nearest by the vertices) among the most voted for, else the
-                // nearest.
-                let mut voted: Option<(usize, usize)> = None;
-                for &e in tied {
-                    let votes = decided.get(&(facet.entity, e)).copied().unwrap_or(0);
-                    if votes > voted.map_or(0, |(v, _)| v) {
-                        voted = Some((votes, e));
-                    }
-                }
-                voted.map(|(_, e)| e).or_else(|| tied.first().copied())
+            .map(|(facet, (tied, _))| {
+                let face = face_of.get(&facet.entity);
+                tied.iter()
+                    .find(|&e| face == Some(e))
+                    .or(tied.first())
+                    .copied()
             })
             .collect();
         for (entity, nearest) in facet_entity.iter_mut().zip(nearest) {
