@@ -410,6 +410,8 @@ impl Attempt {
             refined_elements: 0,
             quadrilaterals_split: 0,
             surface_edges_split: 0,
+            feature_edges_on_model_curves: targets.feature_edges_on_curves,
+            feature_edges_traced: targets.feature_edges_traced,
             facet_edges_split: 0,
             doubly_curved_cells: Vec::new(),
             doubly_curved_cell_tags: Vec::new(),

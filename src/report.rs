@@ -143,6 +143,12 @@ pub struct CurveReport {
     /// of a facet whose other two lie on one feature curve (a coarsely split rim), which
     /// would meet at 180° once curved.
     pub surface_edges_split: usize,
+    /// Mesh edges where curved faces meet (on two or more surfaces) placed on the model's
+    /// own curve there: a CAD edge of a STEP model, or a curve entity.
+    pub feature_edges_on_model_curves: usize,
+    /// Mesh edges where curved faces meet placed on their traced intersection (no model
+    /// curve through both vertices).
+    pub feature_edges_traced: usize,
     /// Hexahedra and prisms (indices into the curved mesh's cells) with two faces on one
     /// curved entity meeting along an edge: not split (it would not be conforming), they
     /// get det J = 0 along that edge and cannot be certified. Not in the JSON, which

@@ -31,7 +31,7 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
         (
             "boundary",
             format!(
-                "{} facets on the geometry ({} by name, {} by proximity), {} straight; {} nodes on it, max distance {:.1e}{} (tolerance {:.1e})",
+                "{} facets on the geometry ({} by name, {} by proximity), {} straight; {} nodes on it, max distance {:.1e}{} (tolerance {:.1e}){}",
                 r.facets_by_name + r.facets_by_proximity,
                 r.facets_by_name,
                 r.facets_by_proximity,
@@ -39,7 +39,8 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
                 r.boundary_nodes_on_geometry,
                 r.max_geometry_distance,
                 seam_note(r),
-                r.geometry_tolerance
+                r.geometry_tolerance,
+                feature_note(r)
             ),
         ),
     ];
@@ -225,6 +226,16 @@ fn seam_note(r: &CurveReport) -> String {
         " on edges where faces are {:.1e} apart{stated}; {:.1e} beyond that",
         r.max_seam_gap, r.distance_beyond_seams
     )
+}
+
+/// Where curved faces meet: how many edges lie on the model's own curves, how many on
+/// traced intersections (empty when no edge is on two surfaces).
+fn feature_note(r: &CurveReport) -> String {
+    let (on, traced) = (r.feature_edges_on_model_curves, r.feature_edges_traced);
+    if on + traced == 0 {
+        return String::new();
+    }
+    format!("; edges where faces meet: {on} on the model's curves, {traced} traced")
 }
 
 /// What a linear mesh file holds: dimension, vertices, cells by type, and the elements of

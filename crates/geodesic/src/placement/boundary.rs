@@ -43,7 +43,7 @@ pub struct BoundaryTargets {
     /// face before the correction (`None` when not measured: 2D, projection, p = 1, no limit).
     pub min_edge_angle_degrees: Option<f64>,
     /// Feature edges (on two or more surfaces) placed by arc length along the model's own
-    /// curve entity.
+    /// curve: a curve entity, or the CAD edge between the surfaces.
     pub feature_edges_on_curves: usize,
     /// Feature edges placed along a traced intersection curve.
     pub feature_edges_traced: usize,
