@@ -6,8 +6,11 @@
 //! parameterisation is, when restricted to a patch boundary, just a parametric curve in three
 //! dimensions", and the nodes are placed at the arc-length fractions of the reference 1D
 //! distribution (Eq. (4)). The curve is
-//! - the model's own curve entity through the edge, when it has one (IGES boundary curves):
-//!   exact arc length on that NURBS curve (Eq. (4) as in 2D);
+//! - the CAD edge between the two surfaces through both vertices, when the model has its
+//!   topology (STEP B-reps: [`hocurve_nurbs::ModelEdge`]), or the model's own curve entity
+//!   through the edge (IGES boundary curves): exact arc length on that NURBS curve (Eq. (4)
+//!   as in 2D), untraced — where two faces meet nearly tangentially their intersection is
+//!   ill-conditioned, and the modeller's curve is the edge;
 //! - otherwise the intersection curve traced between the two vertices: a polyline refined by
 //!   bisection — every chord midpoint moved onto the intersection (its foot point there) —
 //!   until its length, with segments measured as circular arcs (fourth-order accurate, exact
@@ -16,7 +19,9 @@
 //!
 //! Either way every point is finally moved onto the intersection of all the surfaces (its
 //! foot point there, by Newton's method on the two tangent planes and the curve's normal
-//! plane), so it lies on each of them to round-off.
+//! plane), so it lies on each of them to round-off — except that a point of the modeller's
+//! curve stays where it is when that foot is farther from it than the file's uncertainty
+//! and the point itself is within the uncertainty of every surface.
 
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
