@@ -17,11 +17,11 @@
 //!    distance when larger) wins — unless others score within [`SCORE_TIE`] of it. Then the
 //!    facet's mesh entity decides (a mesh generator meshes each CAD face as one entity): the
 //!    entity within reach of every facet of it (of several, the one nearest all their
-//!    vertices), if it is among the tied; else the one nearest the facet's vertices. A facet on a sharply curved blade face
-//!    of Ventilator.stp, beside the fillet it blends into, has its centre (a sagitta inside
-//!    the blade) 3.7e-3 from the blade and 3.4e-3 from the fillet's torus, but its vertices
-//!    within 1.1e-6 of the blade and up to 1.1e-3 from the torus. Decisive scores: a facet with every
-//!    vertex on the rim where a plane meets a
+//!    vertices), if it is among the tied; else the one nearest the facet's vertices. A facet
+//!    on a sharply curved blade face of Ventilator.stp, beside the fillet it blends into, has
+//!    its centre (a sagitta inside the blade) 3.7e-3 from the blade and 3.4e-3 from the
+//!    fillet's torus, but its vertices within 1.1e-6 of the blade and up to 1.1e-3 from the
+//!    torus. Decisive scores: a facet with every vertex on the rim where a plane meets a
 //!    cylinder — three points of a coarsely split quarter-round, one of them the arc's middle
 //!    — is on both by its vertices, but spans the plane (centre on it) and cuts through the
 //!    cylinder (centre a sagitta inside it). Taking the cylinder would make the facet's
@@ -208,31 +208,46 @@ pub fn associate_boundary(
                 let reach =
                     tolerance.min(PROXIMITY_EDGE_FRACTION * shortest_edge(mesh, &facet.vertices));
                 let centre = centroid(mesh, &facet.vertices);
-                // (score, largest vertex distance, entity) of each entity within reach.
-                // Vertices on the curve where two surfaces meet are on both; the facet's
-                // centre tells which one the facet spans, and its distance to the entity's
-                // bounded patch which of several faces on one infinite surface it is on
-                // (see the module doc).
-                let scored: Vec<(f64, f64, usize)> = candidates
+                // Every entity within reach, with the facet's largest vertex distance.
+                let mut within: Vec<(usize, f64)> = candidates
                     .iter()
                     .enumerate()
-                    .filter_map(|(k, &e)| {
+                    .map(|(k, &e)| {
                         let worst = facet
                             .vertices
                             .iter()
                             .map(|&v| row(v)[k])
                             .fold(0.0, f64::max);
-                        (worst <= reach).then(|| {
-                            let score = worst.max(geometry.entities[e].patch_distance(centre));
-                            (score, worst, e)
-                        })
+                        (e, worst)
                     })
+                    .filter(|&(_, worst)| worst <= reach)
                     .collect();
+                // Their scores, nearest vertices first: (score, worst, entity). Vertices on
+                // the curve where two surfaces meet are on both; the facet's centre tells
+                // which one the facet spans, and its distance to the entity's bounded patch
+                // which of several faces on one infinite surface it is on (see the module
+                // doc). A score is at least `worst` and the centre's patch distance: when
+                // either provably exceeds `SCORE_TIE` times the least so far, the entity is
+                // not tied (nor, by the order, any after it in the first case).
+                within.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+                let mut least = f64::INFINITY;
+                let mut scored: Vec<(f64, f64, usize)> = Vec::new();
+                for &(e, worst) in &within {
+                    let tie = SCORE_TIE * least;
+                    if worst > tie {
+                        break;
+                    }
+                    if least.is_finite() && geometry.entities[e].patch_is_farther_than(centre, tie)
+                    {
+                        continue;
+                    }
+                    let score = worst.max(geometry.entities[e].patch_distance(centre));
+                    least = least.min(score);
+                    scored.push((score, worst, e));
+                }
+                within.sort_unstable_by_key(|w| w.0);
                 // Scores within `SCORE_TIE` of the least do not tell the entities apart:
                 // nearest vertices first, then the nearest centre.
-                let least = scored.iter().map(|s| s.0).fold(f64::INFINITY, f64::min);
-                let mut within: Vec<(usize, f64)> = scored.iter().map(|s| (s.2, s.1)).collect();
-                within.sort_unstable_by_key(|w| w.0);
                 let mut tied: Vec<(f64, f64, usize)> = scored
                     .into_iter()
                     .filter(|s| s.0 <= SCORE_TIE * least)
