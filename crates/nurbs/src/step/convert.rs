@@ -26,12 +26,11 @@
 //! Names: a face's (edge's) name when it has a unique non-empty one, else `face#<id>`
 //! (`edge#<id>`); origins name the instance, its surface type and its line.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use super::error::StepError;
 use super::parse::{read_step, StepFile, StepInstance, StepValue};
-use std::collections::BTreeMap;
-
 use crate::iges::affine::{transform_curve, transform_shape, transform_surface, Affine, IDENTITY};
 use crate::model::{EntityGeometry, GeometricEntity, GeometryModel, ModelEdge};
 use crate::shapes::AnalyticShape;
