@@ -251,7 +251,9 @@ pub struct ModelEdge {
     pub origin: String,
     /// The edge's curve (a B-spline curve whole, or the piece between the edge's vertices).
     pub curve: NurbsCurve,
-    /// The surface entities (indices into [`GeometryModel::entities`]) it bounds, ascending.
+    /// The surface entities (indices into [`GeometryModel::entities`]) it bounds, with every
+    /// entity on the same surface as one of them (the association may put a facet on any),
+    /// ascending.
     pub faces: Vec<usize>,
 }
 

@@ -203,13 +203,9 @@ impl Converter<'_> {
                     .entry(edge.id)
                     .or_insert_with(|| self.edge_curve(edge, 0).ok())
                     .clone();
-                let Some(curve) = curve else { continue };
-                let curve = if *t == IDENTITY {
-                    Some(curve)
-                } else {
-                    transform_curve(curve, t).ok()
+                let Some(Ok(curve)) = curve.map(|c| transform_curve(c, t)) else {
+                    continue;
                 };
-                let Some(curve) = curve else { continue };
                 index.insert(key, edges.len());
                 edges.push(ModelEdge {
                     origin: format!("STEP #{} EDGE_CURVE (line {})", edge.id, edge.line),
@@ -236,8 +232,8 @@ impl Converter<'_> {
 }
 
 /// For each item, the surface items on the same surface (itself included; none for a
-/// curve): the same B-spline, or the same closed form — a cone written once per face with
-/// its seam turned is one cone, whose faces all hold every point of it.
+/// curve): the same B-spline, or the same closed form — the faces of one cone, each with a
+/// patch over its own extent or its seam turned, are one cone.
 fn same_surfaces(entities: &[Placed]) -> Vec<Vec<usize>> {
     let n = entities.len();
     // Union–find over the items.
