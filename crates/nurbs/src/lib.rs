@@ -30,6 +30,7 @@ pub mod naca;
 pub mod shapes;
 pub mod step;
 pub mod surface;
+mod surface_groups;
 pub mod vec3;
 
 pub use curve::NurbsCurve;

@@ -9,6 +9,7 @@ use crate::inversion::{
     closest_point_on_surface_near, closest_point_on_surface_sampled, SurfaceSamples,
 };
 use crate::shapes::{AnalyticShape, ClosestPoint};
+use crate::surface_groups::same_surfaces;
 use crate::{NurbsCurve, NurbsSurface};
 
 /// The carrier of a geometric entity: a curve (2D boundaries, 3D feature curves) or a surface.
@@ -252,8 +253,8 @@ pub struct ModelEdge {
     /// The edge's curve (a B-spline curve whole, or the piece between the edge's vertices).
     pub curve: NurbsCurve,
     /// The surface entities (indices into [`GeometryModel::entities`]) it bounds, with every
-    /// entity on the same surface as one of them (the association may put a facet on any),
-    /// ascending.
+    /// entity on the same surface as one of them ([`GeometryModel::same_surface`]: the
+    /// association may put a facet on any), ascending.
     pub faces: Vec<usize>,
 }
 
@@ -276,6 +277,8 @@ pub struct GeometryModel {
     /// several entities scale with it, and computing it visits every control point (on
     /// an assembly from STEP, a quarter of the whole run was spent there).
     size: ModelSize,
+    /// [`Self::same_surface`] of every entity, computed on first use.
+    surfaces: SurfaceGroups,
 }
 
 /// The model's size once computed; models are equal whatever it holds.
@@ -283,6 +286,16 @@ pub struct GeometryModel {
 struct ModelSize(OnceLock<f64>);
 
 impl PartialEq for ModelSize {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+/// The entities on one surface, once found; models are equal whatever it holds.
+#[derive(Debug, Clone, Default)]
+struct SurfaceGroups(OnceLock<Vec<Vec<usize>>>);
+
+impl PartialEq for SurfaceGroups {
     fn eq(&self, _: &Self) -> bool {
         true
     }
@@ -296,6 +309,7 @@ impl GeometryModel {
             edges: Vec::new(),
             uncertainty,
             size: ModelSize::default(),
+            surfaces: SurfaceGroups::default(),
         }
     }
 
@@ -305,6 +319,20 @@ impl GeometryModel {
             .iter()
             .filter(|e| faces.iter().all(|f| e.faces.binary_search(f).is_ok()))
             .collect()
+    }
+
+    /// The surface entities on the same surface as surface entity `entity`, itself included,
+    /// ascending (empty for a curve or an index beyond the model): faces a modeller wrote
+    /// once each with one surface — the same B-spline, or the same closed form whatever
+    /// each face's patch spans. A mesh edge between facets on such faces lies on one
+    /// surface, not where two meet. Found on first use; the entities' geometry is not to
+    /// change after.
+    pub fn same_surface(&self, entity: usize) -> &[usize] {
+        self.surfaces
+            .0
+            .get_or_init(|| same_surfaces(&self.entities))
+            .get(entity)
+            .map_or(&[], Vec::as_slice)
     }
 
     /// The entity called `name`, if any.

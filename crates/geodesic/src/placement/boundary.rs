@@ -244,21 +244,30 @@ pub fn place_boundary_nodes_reusing<'a>(
             if options.uncorrected_edges.contains(&key) {
                 continue;
             }
-            let entity = edge_entities[&key].iter().copied().next();
-            if let (Some(EdgeCarrier::Surface { chart, path, .. }), Some(entity)) =
-                (carrier_of.remove(&key), entity)
-            {
-                carrier_of.insert(
-                    key,
-                    EdgeCarrier::Corrected(CorrectedEdge {
-                        geometry,
-                        entity,
-                        chart,
-                        curve,
-                        guide: path,
-                    }),
-                );
-                out.corrected_edge_vertices.push(key);
+            // (Only surface carriers are correctable: `check.curve` is for them alone.)
+            match carrier_of.remove(&key) {
+                Some(EdgeCarrier::Surface {
+                    entity,
+                    chart,
+                    path,
+                    ..
+                }) => {
+                    carrier_of.insert(
+                        key,
+                        EdgeCarrier::Corrected(CorrectedEdge {
+                            geometry,
+                            entity,
+                            chart,
+                            curve,
+                            guide: path,
+                        }),
+                    );
+                    out.corrected_edge_vertices.push(key);
+                }
+                Some(other) => {
+                    carrier_of.insert(key, other);
+                }
+                None => {}
             }
         }
         out.corrected_edges = out.corrected_edge_vertices.len();

@@ -25,6 +25,7 @@ pub(crate) enum EdgeCarrier<'a> {
     /// surface's geodesics have a closed form, its points come from that (`exact`, with the
     /// edge's end points) and the path serves the minimum-angle check only.
     Surface {
+        entity: usize,
         chart: SurfaceChart<'a>,
         path: GeodesicPath,
         exact: Option<(ClosedFormGeodesic, [[f64; 3]; 2])>,
@@ -93,6 +94,22 @@ pub(crate) fn edge_carrier<'a>(
         .first()
         .ok_or_else(|| GeodesicError::Mismatch(format!("edge {a}–{b} lies on no entity")))?;
     let geometry = charts.geometry;
+    // Faces written once each with one surface (the faces of a hub's cone, each patch over
+    // its own extent) meet nowhere in particular: an edge between them lies on that one
+    // surface, on the face whose patch holds both its vertices best.
+    let twins = one_surface(geometry, entities);
+    let first = match twins {
+        Some(group) => group
+            .iter()
+            .map(|&e| {
+                let entity = &geometry.entities[e];
+                let d = entity.patch_distance(xa).max(entity.patch_distance(xb));
+                (d, e)
+            })
+            .min_by(|p, q| p.0.total_cmp(&q.0).then(p.1.cmp(&q.1)))
+            .map_or(first, |(_, e)| e),
+        None => first,
+    };
     let entity = geometry.entities.get(first).ok_or_else(|| {
         GeodesicError::Mismatch(format!("entity index {first} is not in the geometry"))
     })?;
@@ -104,9 +121,9 @@ pub(crate) fn edge_carrier<'a>(
             );
             Ok(EdgeCarrier::Curve(CurveArc::new(curve, la, lb)))
         }
-        EntityGeometry::Surface(_) if entities.len() > 1 => Ok(EdgeCarrier::Feature(
-            traces.between(geometry, entities, xa, xb, feature_tolerance),
-        )),
+        EntityGeometry::Surface(_) if entities.len() > 1 && twins.is_none() => Ok(
+            EdgeCarrier::Feature(traces.between(geometry, entities, xa, xb, feature_tolerance)),
+        ),
         EntityGeometry::Surface(surface) => {
             let chart = charts
                 .chart(first)
@@ -125,9 +142,21 @@ pub(crate) fn edge_carrier<'a>(
                 .as_ref()
                 .and_then(ClosedFormGeodesic::of)
                 .map(|g| (g, [xa, xb]));
-            Ok(EdgeCarrier::Surface { chart, path, exact })
+            Ok(EdgeCarrier::Surface {
+                entity: first,
+                chart,
+                path,
+                exact,
+            })
         }
     }
+}
+
+/// `entities` (two or more) when they are all one surface ([`GeometryModel::same_surface`]).
+fn one_surface<'e>(geometry: &GeometryModel, entities: &'e [usize]) -> Option<&'e [usize]> {
+    let (&first, rest) = entities.split_first()?;
+    let group = geometry.same_surface(first);
+    (!rest.is_empty() && rest.iter().all(|e| group.binary_search(e).is_ok())).then_some(entities)
 }
 
 impl EdgeCarrier<'_> {

@@ -211,3 +211,62 @@ fn a_node_on_faces_apart_by_the_files_uncertainty_is_measured_beyond_their_gap()
     let off = measure(Some(5e-6), 2);
     assert!(close(off.beyond_seams, 1e-4 - gap), "{off:?}");
 }
+
+/// Faces written once each with one surface (a hub's cone under a dozen faces, each patch
+/// over its own part) meet nowhere in particular: a mesh edge between their facets lies on
+/// that surface, as if the facets were on one face. The sphere's facets are split between
+/// two faces with different patches (the second's poles on the x axis), one closed form.
+#[test]
+fn an_edge_between_faces_on_one_surface_is_placed_on_that_surface() {
+    let linear = fixture("sphere/sphere.msh");
+    let one = sphere_model("sphere", 1.0);
+    let mut turned = one.entities[0].clone();
+    turned.name = "turned".into();
+    if let hocurve_nurbs::EntityGeometry::Surface(s) = &mut turned.geometry {
+        for c in &mut s.control_points {
+            *c = [c[2], c[1], c[0]];
+        }
+    }
+    let two = GeometryModel::new(vec![one.entities[0].clone(), turned], None);
+    assert_eq!(two.same_surface(1), [0, 1]);
+    let a = associate_boundary(&linear, &one, AssociationRule::NameOnly, None).unwrap();
+    // Facets with their centre at x > 0.2 on the turned face.
+    let mut split = a.clone();
+    for (facet, entity) in linear.facets.iter().zip(&mut split.facet_entity) {
+        let centre: f64 = facet
+            .vertices
+            .iter()
+            .map(|&n| linear.vertices[n as usize][0])
+            .sum::<f64>()
+            / facet.vertices.len() as f64;
+        if entity.is_some() && centre > 0.2 {
+            *entity = Some(1);
+        }
+    }
+    let mut on: BTreeMap<u32, std::collections::BTreeSet<usize>> = BTreeMap::new();
+    for (facet, entity) in linear.facets.iter().zip(&split.facet_entity) {
+        for &n in &facet.vertices {
+            on.entry(n).or_default().extend(*entity);
+        }
+    }
+    split.vertex_entities = on
+        .into_iter()
+        .map(|(n, e)| (n, e.into_iter().collect()))
+        .collect();
+    assert!(split.vertex_entities.values().any(|e| e.len() == 2));
+    for p in [2, 4] {
+        let mesh = HighOrderMesh::from_linear(&linear, p, NodeFamily::Fekete).unwrap();
+        let options = PlacementOptions::default();
+        let whole = place_boundary_nodes_with(&mesh, &one, &a, &options).unwrap();
+        let t = place_boundary_nodes_with(&mesh, &two, &split, &options).unwrap();
+        assert_eq!((t.feature_edges_on_curves, t.feature_edges_traced), (0, 0));
+        let worst = whole
+            .targets
+            .iter()
+            .map(|(n, x)| distance(*x, t.targets[n]))
+            .fold(0.0, f64::max);
+        println!("p = {p}: nodes differ from one face's by at most {worst:.1e}");
+        assert!(worst < 1e-13, "{worst:e}");
+        assert!(t.max_geometry_distance < 1e-13);
+    }
+}

@@ -165,7 +165,23 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
         ),
         c.length_uncertainty()?,
     );
-    model.edges = edges;
+    // Faces on one surface (the twelve fillet faces of Ventilator.stp round one torus) are
+    // one surface to the association, which may put a facet on any of them: the edge
+    // bounds them all.
+    model.edges = edges
+        .into_iter()
+        .map(|mut e| {
+            let mut faces: Vec<usize> = e
+                .faces
+                .iter()
+                .flat_map(|&f| model.same_surface(f).to_vec())
+                .collect();
+            faces.sort_unstable();
+            faces.dedup();
+            e.faces = faces;
+            e
+        })
+        .collect();
     Ok(model)
 }
 
@@ -217,114 +233,8 @@ impl Converter<'_> {
         // Only seams between faces: an edge of one face alone (a periodic face's own seam,
         // a free boundary) carries no feature edge.
         edges.retain(|e| e.faces.len() >= 2);
-        // Faces on one surface (written once per face with the same parameters: the twelve
-        // fillet faces of Ventilator.stp around one torus) are one surface to the
-        // association, which may put a facet on any of them: the edge bounds them all.
-        let twins = same_surfaces(entities);
-        for e in &mut edges {
-            let mut faces: Vec<usize> = e.faces.iter().flat_map(|&f| twins[f].clone()).collect();
-            faces.sort_unstable();
-            faces.dedup();
-            e.faces = faces;
-        }
         edges
     }
-}
-
-/// For each item, the surface items on the same surface (itself included; none for a
-/// curve): the same B-spline, or the same closed form — the faces of one cone, each with a
-/// patch over its own extent or its seam turned, are one cone.
-fn same_surfaces(entities: &[Placed]) -> Vec<Vec<usize>> {
-    let n = entities.len();
-    // Union–find over the items.
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut k: usize) -> usize {
-        while parent[k] != k {
-            parent[k] = parent[parent[k]];
-            k = parent[k];
-        }
-        k
-    }
-    let surface = |k: usize| match &entities[k].2 {
-        EntityGeometry::Surface(s) => Some(s),
-        EntityGeometry::Curve(_) => None,
-    };
-    // The same B-spline: grouped by a cheap key first (the net's size and corners), then
-    // compared in full.
-    let mut by_net: BTreeMap<(usize, [u64; 6]), Vec<usize>> = BTreeMap::new();
-    for k in 0..n {
-        let Some(s) = surface(k) else { continue };
-        let (Some(a), Some(b)) = (s.control_points.first(), s.control_points.last()) else {
-            continue;
-        };
-        let key = (
-            s.control_points.len(),
-            [a[0], a[1], a[2], b[0], b[1], b[2]].map(f64::to_bits),
-        );
-        let bucket = by_net.entry(key).or_default();
-        if let Some(&j) = bucket.iter().find(|&&j| entities[j].2 == entities[k].2) {
-            let (a, b) = (root(&mut parent, j), root(&mut parent, k));
-            parent[b] = a;
-        } else {
-            bucket.push(k);
-        }
-    }
-    // The same closed form: each one's samples on the other's shape, among shapes of one
-    // kind whose sizes agree (sorted by size, so only neighbours are compared).
-    let mut analytic: Vec<(u8, f64, usize)> = (0..n)
-        .filter(|&k| surface(k).is_some())
-        .filter_map(|k| {
-            let (kind, size) = match entities[k].3? {
-                AnalyticShape::Sphere { radius, .. } => (0, radius),
-                AnalyticShape::Cylinder { radius, .. } => (1, radius),
-                AnalyticShape::Cone { half_angle, .. } => (2, half_angle),
-                AnalyticShape::Torus { major_radius, .. } => (3, major_radius),
-                AnalyticShape::Circle { .. } => return None,
-            };
-            Some((kind, size, k))
-        })
-        .collect();
-    analytic.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)).then(a.2.cmp(&b.2)));
-    let on_shape_of = |k: usize, other: usize| -> bool {
-        let (Some(s), Some(shape)) = (surface(k), entities[other].3.as_ref()) else {
-            return false;
-        };
-        let ((u0, u1), (v0, v1)) = s.domain();
-        (0..3).all(|i| {
-            (0..3).all(|j| {
-                let x = s.point(
-                    u0 + (u1 - u0) * i as f64 / 2.0,
-                    v0 + (v1 - v0) * j as f64 / 2.0,
-                );
-                shape.closest_point(x).distance <= SAME * (1.0 + norm(x))
-            })
-        })
-    };
-    for (i, &(kind, size, k)) in analytic.iter().enumerate() {
-        for &(other_kind, other_size, other) in &analytic[i + 1..] {
-            if other_kind != kind || other_size - size > SAME * (1.0 + size.abs()) {
-                break;
-            }
-            if on_shape_of(k, other) && on_shape_of(other, k) {
-                let (a, b) = (root(&mut parent, k), root(&mut parent, other));
-                parent[b] = a;
-            }
-        }
-    }
-    let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    for k in 0..n {
-        if surface(k).is_some() {
-            let r = root(&mut parent, k);
-            groups.entry(r).or_default().push(k);
-        }
-    }
-    let mut twins = vec![Vec::new(); n];
-    for group in groups.into_values() {
-        for &k in &group {
-            twins[k] = group.clone();
-        }
-    }
-    twins
 }
 
 /// Names and origins (see the module documentation).
