@@ -371,7 +371,24 @@ pub(crate) fn longest_curved_facet_edges(
                     0.5 * (pa[1] + pb[1]),
                     0.5 * (pa[2] + pb[2]),
                 ];
-                let q = hocurve_geodesic::association::snap_onto(model, &entities, mid);
+                // On a CAD edge between faces, its midpoint by arc length (the faces may
+                // meet tangentially, where no projection finds their edge); otherwise
+                // the chord's midpoint snapped onto the entities.
+                let target = |v: u32| {
+                    association
+                        .vertex_targets
+                        .get(&v)
+                        .copied()
+                        .unwrap_or(linear.vertices[v as usize])
+                };
+                let q = hocurve_geodesic::feature::point_on_model_edge(
+                    model,
+                    &entities,
+                    target(e[0]),
+                    target(e[1]),
+                    0.5,
+                )
+                .unwrap_or_else(|| hocurve_geodesic::association::snap_onto(model, &entities, mid));
                 let sagitta = (0..3).map(|d| (q[d] - mid[d]).powi(2)).sum::<f64>().sqrt();
                 let length = (0..3).map(|d| (pa[d] - pb[d]).powi(2)).sum::<f64>().sqrt();
                 // (NaN from a degenerate edge is left out too.)

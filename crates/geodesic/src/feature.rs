@@ -762,6 +762,21 @@ fn explicit_curve<'a>(geometry: &'a GeometryModel, points: &[[f64; 3]]) -> Optio
     })
 }
 
+/// The point at `fraction` of the arc length from `from` to `to` along the CAD edge between
+/// `surfaces` through both (see [`model_edge_arc`]), if the model has one: where a mesh
+/// edge on that CAD edge is split, so that the new vertex lies on the edge as the placed
+/// nodes do (faces that meet tangentially have no intersection a projection could find
+/// to better than ~1e-4 of their size).
+pub fn point_on_model_edge(
+    geometry: &GeometryModel,
+    surfaces: &[usize],
+    from: [f64; 3],
+    to: [f64; 3],
+    fraction: f64,
+) -> Option<[f64; 3]> {
+    model_edge_arc(geometry, surfaces, from, to).map(|arc| arc.at(fraction))
+}
+
 /// The arc from `from` to `to` on the CAD edge between `surfaces` (the model's
 /// [`hocurve_nurbs::ModelEdge`]s) through both points, to the file's uncertainty (or
 /// [`CURVE_MATCH_TOLERANCE`] of the model where that is larger), the nearest such edge when

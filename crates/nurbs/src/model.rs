@@ -335,6 +335,26 @@ impl GeometryModel {
             .map_or(&[], Vec::as_slice)
     }
 
+    /// Sets the model's CAD edges, each widened to every face on the same surface as one it
+    /// bounds ([`Self::same_surface`]: the association may put a facet on any of them).
+    pub fn set_edges(&mut self, edges: Vec<ModelEdge>) {
+        let widened = edges
+            .into_iter()
+            .map(|mut e| {
+                let mut faces: Vec<usize> = e
+                    .faces
+                    .iter()
+                    .flat_map(|&f| self.same_surface(f).iter().copied())
+                    .collect();
+                faces.sort_unstable();
+                faces.dedup();
+                e.faces = faces;
+                e
+            })
+            .collect();
+        self.edges = widened;
+    }
+
     /// The entity called `name`, if any.
     pub fn entity(&self, name: &str) -> Option<&GeometricEntity> {
         self.entities.iter().find(|e| e.name == name)

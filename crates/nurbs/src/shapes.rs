@@ -239,6 +239,40 @@ pub fn torus(
     revolve(center, axis, 2, &CIRCLE_KNOTS, &profile, &weights)
 }
 
+/// The band of the torus of [`torus`] between tube angles `start` and `start + span`
+/// (radians from the outer equator towards `axis`, 0 < span ≤ 2π): the part of the tube a
+/// face covers (a fillet's quarter), so that paths on the patch stay on the face rather
+/// than run over the tube beyond its edge. v is the tube angle.
+pub fn torus_band(
+    center: [f64; 3],
+    axis: [f64; 3],
+    major_radius: f64,
+    minor_radius: f64,
+    start: f64,
+    span: f64,
+) -> Result<NurbsSurface, NurbsError> {
+    check_radius("torus", "major_radius", major_radius)?;
+    check_radius("torus", "minor_radius", minor_radius)?;
+    if minor_radius >= major_radius || !(span > 0.0 && span <= 2.0 * PI) || !start.is_finite() {
+        return Err(NurbsError::InvalidShape {
+            shape: "torus band",
+            reason: format!(
+                "minor_radius {minor_radius} must be below major_radius {major_radius}, \
+                 the span {span} in (0, 2π]"
+            ),
+        });
+    }
+    let (knots, points, weights) = crate::iges::curve_primitives::rational_arc(
+        [major_radius, 0.0, 0.0],
+        [minor_radius, 0.0, 0.0],
+        [0.0, minor_radius, 0.0],
+        start,
+        span,
+    );
+    let profile: Vec<[f64; 2]> = points.iter().map(|p| [p[0], p[1]]).collect();
+    revolve(center, axis, 2, &knots, &profile, &weights)
+}
+
 /// A shape with a closed-form closest point. Axes are stored normalised.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum AnalyticShape {

@@ -43,6 +43,7 @@ use super::converter::{unsupported, Converted, Converter};
 use super::entities::EntityData;
 use super::error::IgesError;
 use super::model::{IgesEntity, IgesModel};
+use super::model_edges::edges_between_faces;
 use super::naming::name_entities;
 use super::parse::read_iges;
 use super::tolerance::RECOGNITION_TOLERANCE;
@@ -56,7 +57,7 @@ pub fn geometry_from_iges(model: &IgesModel) -> Result<GeometryModel, IgesError>
     // The conversion follows references recursively: bounded once they are acyclic and
     // shallow.
     model.check_references()?;
-    let mut geometry = Converter::new(model).convert()?;
+    let (mut geometry, mut boundaries) = Converter::new(model).convert()?;
     let mm = model.global.unit_in_metres().map_or(1.0, |m| 1000.0 * m);
     let resolution = model.global.min_resolution * mm;
     geometry.uncertainty = (resolution > 0.0 && resolution.is_finite()).then_some(resolution);
@@ -83,10 +84,30 @@ pub fn geometry_from_iges(model: &IgesModel) -> Result<GeometryModel, IgesError>
                 })?;
                 e.analytic = e.analytic.and_then(|a| transform_shape(a, &t));
             }
+            for (_, curves) in &mut boundaries {
+                for (origin, curve) in curves {
+                    *curve =
+                        transform_curve(curve.clone(), &t).map_err(|reason| IgesError::Units {
+                            entity: origin.clone(),
+                            reason,
+                        })?;
+                }
+            }
         }
     }
+    // Copies of one edge written for each of its faces agree to the file's stated
+    // resolution (or to round-off).
+    let tolerance = geometry
+        .uncertainty
+        .unwrap_or(0.0)
+        .max(1e-9 * geometry.size());
+    geometry.set_edges(edges_between_faces(boundaries, tolerance));
     Ok(geometry)
 }
+
+/// Each 3D face's model-space boundary curves, by entity index (see
+/// [`edges_between_faces`]).
+type FaceBoundaries = Vec<(usize, Vec<(String, NurbsCurve)>)>;
 
 /// Reads an IGES file and converts it with [`geometry_from_iges`].
 pub fn read_iges_geometry(path: &Path) -> Result<GeometryModel, IgesError> {
@@ -108,7 +129,8 @@ fn same_curve(a: &NurbsCurve, b: &NurbsCurve) -> bool {
 }
 
 impl<'a> Converter<'a> {
-    fn convert(&self) -> Result<GeometryModel, IgesError> {
+    /// The model's entities, and each 3D face's boundary curves (entity index, curves).
+    fn convert(&self) -> Result<(GeometryModel, FaceBoundaries), IgesError> {
         let top = self.independent_entities()?;
         let surfaces: Vec<&IgesEntity> = top.iter().copied().filter(|e| is_surface(e)).collect();
         let two_d = self.is_planar_model(&surfaces)?;
@@ -168,7 +190,20 @@ impl<'a> Converter<'a> {
                 converted.push(c);
             }
         }
-        Ok(GeometryModel::new(name_entities(converted), None))
+        let faces: Vec<(usize, &'a IgesEntity)> = converted
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| matches!(c.geometry, EntityGeometry::Surface(_)) && !two_d)
+            .map(|(k, c)| (k, c.entity))
+            .collect();
+        let boundaries = faces
+            .into_iter()
+            .map(|(k, e)| (k, self.face_edge_curves(e)))
+            .collect();
+        Ok((
+            GeometryModel::new(name_entities(converted), None),
+            boundaries,
+        ))
     }
 
     /// Entities that stand alone: by the subordinate switch when the file sets it anywhere,

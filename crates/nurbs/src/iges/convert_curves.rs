@@ -22,8 +22,6 @@ pub(super) struct PlacedCircle {
     pub(super) center: [f64; 3],
     pub(super) normal: [f64; 3],
     pub(super) radius: f64,
-    pub(super) start: [f64; 3],
-    pub(super) end: [f64; 3],
     pub(super) full: bool,
 }
 
@@ -149,8 +147,6 @@ impl<'a> Converter<'a> {
             center: apply(&t, [center[0], center[1], zt]),
             normal: apply_linear(&t, [0.0, 0.0, 1.0]),
             radius: s * radius,
-            start: apply(&t, [start[0], start[1], zt]),
-            end: apply(&t, [end[0], end[1], zt]),
             full: gap <= RECOGNITION_TOLERANCE * radius,
         })
     }

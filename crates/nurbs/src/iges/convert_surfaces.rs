@@ -124,16 +124,17 @@ impl<'a> Converter<'a> {
         let generatrix_entity = self.child(generatrix, e)?;
         let g = self.curve(generatrix_entity)?;
         let s = revolve_curve(&g, origin, a, start_angle, span).map_err(|x| fail(x.to_string()))?;
-        let analytic = if span == TAU {
-            self.revolved_shape(generatrix_entity, origin, a)
-        } else {
-            None
-        };
+        // The closed form whatever the span (a face a quarter of the way round is on the
+        // same torus as a whole one, as STEP states it).
+        let analytic = self.revolved_shape(generatrix_entity, origin, a);
         Ok((s, analytic))
     }
 
-    /// The closed form of a whole revolution of `generatrix` about the axis through `origin`
-    /// along the unit `a`: a sphere, torus, cylinder or cone, when the generatrix makes one.
+    /// The closed form of a revolution of `generatrix` about the axis through `origin` along
+    /// the unit `a`: a sphere, torus, cylinder or cone, when the generatrix makes one — an
+    /// arc of a circle about a point of the axis (the sphere's zone a face covers, not
+    /// only pole to pole), an arc of a circle in a plane through the axis about a point
+    /// farther from it than its radius (a fillet's quarter of the tube, not only all of it).
     fn revolved_shape(
         &self,
         generatrix: &IgesEntity,
@@ -147,21 +148,17 @@ impl<'a> Converter<'a> {
                 let c = self.placed_circle(generatrix)?;
                 let tol = RECOGNITION_TOLERANCE * (c.radius + norm(sub(c.center, origin)));
                 let n = scale(c.normal, 1.0 / norm(c.normal));
-                if c.full {
-                    let in_axis_plane = dot(n, a).abs() <= RECOGNITION_TOLERANCE
-                        && dot(n, sub(c.center, origin)).abs() <= tol;
-                    let major = off_axis(c.center);
-                    (in_axis_plane && major > c.radius)
-                        .then(|| AnalyticShape::new_torus(foot(c.center), a, major, c.radius))?
-                        .ok()
-                } else {
-                    let semicircle = off_axis(c.center) <= tol
-                        && off_axis(c.start) <= tol
-                        && off_axis(c.end) <= tol;
-                    semicircle
-                        .then(|| AnalyticShape::new_sphere(foot(c.center), c.radius))?
-                        .ok()
+                if off_axis(c.center) <= tol {
+                    // Every point of a circle about a point of the axis stays at its radius
+                    // from that point as it turns.
+                    return AnalyticShape::new_sphere(foot(c.center), c.radius).ok();
                 }
+                let in_axis_plane = dot(n, a).abs() <= RECOGNITION_TOLERANCE
+                    && dot(n, sub(c.center, origin)).abs() <= tol;
+                let major = off_axis(c.center);
+                (in_axis_plane && major > c.radius)
+                    .then(|| AnalyticShape::new_torus(foot(c.center), a, major, c.radius))?
+                    .ok()
             }
             EntityData::Line { start, end } => {
                 let t = self.own_transform(generatrix);

@@ -35,6 +35,7 @@ mod global;
 mod join;
 mod limits;
 mod model;
+mod model_edges;
 mod naming;
 mod param_reader;
 mod params;

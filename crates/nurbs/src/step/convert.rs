@@ -165,23 +165,8 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
         ),
         c.length_uncertainty()?,
     );
-    // Faces on one surface (the twelve fillet faces of Ventilator.stp round one torus) are
-    // one surface to the association, which may put a facet on any of them: the edge
-    // bounds them all.
-    model.edges = edges
-        .into_iter()
-        .map(|mut e| {
-            let mut faces: Vec<usize> = e
-                .faces
-                .iter()
-                .flat_map(|&f| model.same_surface(f).to_vec())
-                .collect();
-            faces.sort_unstable();
-            faces.dedup();
-            e.faces = faces;
-            e
-        })
-        .collect();
+    // (The twelve fillet faces of Ventilator.stp round one torus: each edge bounds all.)
+    model.set_edges(edges);
     Ok(model)
 }
 

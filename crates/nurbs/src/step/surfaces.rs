@@ -159,8 +159,19 @@ impl<'a> Converter<'a> {
                 let f = self.placement(&p[1], s)?;
                 let major = self.length(&p[2], s, "major radius")?;
                 let minor = self.length(&p[3], s, "minor radius")?;
+                // The patch covers the part of the tube the face does (a fillet's quarter,
+                // as an IGES export writes it): a path on the patch between two points of
+                // its edge where the fillet meets a face tangentially then follows that
+                // edge, rather than run over the tube into the solid.
+                let cover = self.face_cover(face)?;
+                let patch = match tube_extent(&cover, f.origin, f.z, major) {
+                    Some((start, span)) => {
+                        shapes::torus_band(f.origin, f.z, major, minor, start, span)
+                    }
+                    None => shapes::torus(f.origin, f.z, major, minor),
+                };
                 (
-                    shapes::torus(f.origin, f.z, major, minor).map_err(|e| fail(e.to_string()))?,
+                    patch.map_err(|e| fail(e.to_string()))?,
                     AnalyticShape::new_torus(f.origin, f.z, major, minor).ok(),
                 )
             }
@@ -335,6 +346,37 @@ fn min_max(values: impl Iterator<Item = f64>) -> (f64, f64) {
     values.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
         (lo.min(x), hi.max(x))
     })
+}
+
+/// The tube angles a face on a torus covers (start, span; from the outer equator towards
+/// the axis), from points of its edges `cover`: all but the widest gap between them, when
+/// that gap is wider than sampling leaves (an eighth of a turn: 16 samples per edge step
+/// at most 1/16 of a turn); `None` when the face goes all round the tube.
+fn tube_extent(
+    cover: &[[f64; 3]],
+    center: [f64; 3],
+    axis: [f64; 3],
+    major: f64,
+) -> Option<(f64, f64)> {
+    let mut angles: Vec<f64> = cover
+        .iter()
+        .map(|x| {
+            let d = sub(*x, center);
+            let along = dot(d, axis);
+            let rho = norm(sub(d, scale(axis, along)));
+            along.atan2(rho - major)
+        })
+        .filter(|t| t.is_finite())
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    let (&first, &last) = (angles.first()?, angles.last()?);
+    // The gap after each angle (the last one's wraps round to the first).
+    let (gap, after) = angles
+        .windows(2)
+        .map(|w| (w[1] - w[0], w[1]))
+        .chain(std::iter::once((first + TAU - last, first)))
+        .max_by(|a, b| a.0.total_cmp(&b.0))?;
+    (gap > TAU / 8.0).then_some((after, TAU - gap))
 }
 
 /// `[lo, hi]` widened by [`EXTENT_MARGIN`] of its length on each side (of 1 when empty).

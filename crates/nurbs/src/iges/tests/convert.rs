@@ -340,19 +340,18 @@ fn revolved_line_is_an_exact_cone() {
         // axis and generatrix are referenced: only the 120 stands alone
         assert_eq!(model.counts(), (0, 1));
         let e = &model.entities[0];
-        // The whole turn has the closed form: apex (0, 0, −3), opening up at atan(1/3).
+        // Both are on the closed form (as STEP states every face's surface): apex
+        // (0, 0, −3), opening up at atan(1/3).
         match e.analytic {
             Some(AnalyticShape::Cone {
                 apex,
                 axis,
                 half_angle,
             }) => {
-                assert_eq!(pieces, 4);
                 assert!(distance(apex, [0.0, 0.0, -3.0]) < 1e-12, "{apex:?}");
                 assert!(distance(axis, [0.0, 0.0, 1.0]) < 1e-15);
                 assert!((half_angle - (1.0f64 / 3.0).atan()).abs() < 1e-15);
             }
-            None => assert_eq!(pieces, 3, "only a whole turn is the closed form"),
             other => panic!("{other:?}"),
         }
         let s = surface(e);
@@ -834,5 +833,53 @@ fn iges_lengths_are_read_in_millimetres() {
             (found - radius).abs() < 1e-12 * radius,
             "flag {flag}: {found}"
         );
+    }
+}
+
+/// A revolved arc is on the closed form of its whole circle's revolution, whatever part of
+/// the circle and of the turn it is (OpenCASCADE writes a fillet as its quarter of the
+/// tube, a spherical face as the zone it covers; STEP states the whole torus or sphere):
+/// about a point off the axis a torus, about a point of the axis a sphere.
+#[test]
+fn revolved_arcs_are_on_their_torus_or_sphere() {
+    // Axis: the y axis. Arcs in the xy plane (z = 0).
+    for (arc, angles) in [
+        ("100,0.,2.,0.,2.5,0.,2.,0.5;", "0.,6.283185307"),
+        ("100,0.,2.,0.,2.5,0.,2.,0.5;", "0.,1.570796327"),
+        ("100,0.,0.,0.,1.,0.,0.6,0.8;", "0.,6.283185307"),
+        ("100,0.,0.,0.,1.,0.,0.6,0.8;", "0.5,2."),
+    ] {
+        let params = format!("120,3,5,{angles};");
+        let text = build(
+            GLOBAL,
+            &[
+                ent(120, &params),
+                ent(110, "110,0.,0.,0.,0.,1.,0.;"),
+                ent(100, arc),
+            ],
+        );
+        let model = convert_text(&text).unwrap();
+        let e = &model.entities[0];
+        match e.analytic {
+            Some(AnalyticShape::Torus {
+                center,
+                axis,
+                major_radius,
+                minor_radius,
+            }) => {
+                assert!(arc.contains("2.,0.,2.5"), "{arc}");
+                assert!(norm(center) < 1e-15 && (axis[1].abs() - 1.0).abs() < 1e-15);
+                assert!((major_radius - 2.0).abs() < 1e-15 && (minor_radius - 0.5).abs() < 1e-15);
+            }
+            Some(AnalyticShape::Sphere { center, radius }) => {
+                assert!(arc.contains("0.,0.,1."), "{arc}");
+                assert!(norm(center) < 1e-15 && (radius - 1.0).abs() < 1e-15);
+            }
+            other => panic!("{arc} {angles}: {other:?}"),
+        }
+        // The patch is on it.
+        for p in surface_samples(surface(e), 20) {
+            assert!(e.distance(p) < 1e-14, "{p:?}");
+        }
     }
 }

@@ -475,3 +475,85 @@ fn the_files_stated_uncertainty_is_read_in_millimetres() {
     let model = geometry_from_step(&parse_step(bare.as_bytes()).unwrap()).unwrap();
     assert_eq!(model.uncertainty, None);
 }
+
+/// IGES has no shared topology, but its faces' boundary curves give the same CAD edges:
+/// an IGES export of each model has as many edges between faces as the STEP export, each
+/// on its faces and on a STEP edge along its whole length.
+#[test]
+fn an_iges_export_has_the_same_edges_between_faces_as_the_step_export() {
+    for name in [
+        "cone_plate",
+        "filleted_boss",
+        "sphere_on_block",
+        "tee_pipes",
+        "twisted_loft",
+        "wing_body",
+    ] {
+        let step = read_step_geometry(&fixture(&format!("{name}.step"))).unwrap();
+        let iges = read_iges_geometry(&fixture(&format!("{name}.igs"))).unwrap();
+        assert_eq!(iges.edges.len(), step.edges.len(), "{name}");
+        check_edges_on_their_faces(&iges, name);
+        let tolerance = step.uncertainty.unwrap_or(0.0).max(1e-9 * step.size());
+        for edge in &iges.edges {
+            let (t0, t1) = edge.curve.domain();
+            let on_a_step_edge = step.edges.iter().any(|s| {
+                (0..=8).all(|k| {
+                    let x = edge.curve.point(t0 + (t1 - t0) * k as f64 / 8.0);
+                    crate::inversion::closest_point_on_curve(&s.curve, x).distance <= tolerance
+                })
+            });
+            assert!(on_a_step_edge, "{name}: {}", edge.origin);
+        }
+    }
+    let flat = read_iges_geometry(&fixture("naca_layers_2d.igs")).unwrap();
+    assert!(flat.edges.is_empty());
+}
+
+/// A face on a torus is a patch over the part of the tube it covers, as an IGES export
+/// writes it (a fillet's quarter of the tube revolved), not the whole torus: a path on
+/// the patch between two points of the edge where the fillet meets a plane tangentially
+/// then follows that edge instead of running over the tube into the solid.
+#[test]
+fn a_face_on_a_torus_is_the_part_of_the_tube_it_covers() {
+    for name in ["cone_plate", "filleted_boss"] {
+        let step = read_step_geometry(&fixture(&format!("{name}.step"))).unwrap();
+        let iges = read_iges_geometry(&fixture(&format!("{name}.igs"))).unwrap();
+        let mut tori = 0;
+        for e in &step.entities {
+            let Some(AnalyticShape::Torus { .. }) = e.analytic else {
+                continue;
+            };
+            tori += 1;
+            let EntityGeometry::Surface(s) = &e.geometry else {
+                panic!("{name}: a torus that is not a surface");
+            };
+            // The IGES face on the same torus, holding this patch's middle point.
+            let ((u0, u1), (v0, v1)) = s.domain();
+            let middle = s.point(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+            let twin = iges
+                .entities
+                .iter()
+                .find(|f| {
+                    matches!(f.analytic, Some(AnalyticShape::Torus { .. }))
+                        && f.patch_distance(middle) < 1e-9
+                })
+                .unwrap_or_else(|| panic!("{name}: no IGES face holds {}'s middle", e.name));
+            let EntityGeometry::Surface(t) = &twin.geometry else {
+                panic!("{name}: {} is not a surface", twin.name);
+            };
+            // Each patch lies on the other.
+            for (a, b) in [(s, twin), (t, e)] {
+                for p in samples(a) {
+                    let d = b.patch_distance(p);
+                    assert!(
+                        d < 1e-7,
+                        "{name}: {} and {}: {p:?} {d:e}",
+                        e.name,
+                        twin.name
+                    );
+                }
+            }
+        }
+        assert!(tori > 0, "{name}");
+    }
+}
