@@ -21,6 +21,7 @@ pub mod arc_length;
 pub mod basis;
 pub mod curve;
 mod error;
+mod face_edges;
 pub mod hull;
 pub mod iges;
 pub mod inversion;

@@ -12,9 +12,10 @@
 //! - A 2D model (every face a plane, all in one plane) is its edges (`EDGE_CURVE` on `LINE`,
 //!   `CIRCLE`, `ELLIPSE` and B-spline curves, through `SURFACE_CURVE`, `SEAM_CURVE` and
 //!   `TRIMMED_CURVE`), each between its vertices, duplicates removed.
-//! - A 3D model also keeps its edges ([`ModelEdge`]): the curve of each `EDGE_CURVE` bounding
-//!   two of its faces, with the faces, so that a feature edge between them lies on the
-//!   modeller's curve rather than on a traced intersection.
+//! - A 3D model also keeps its edges ([`crate::ModelEdge`]): the curve of each `EDGE_CURVE`
+//!   bounding two of its faces (shared, or copies that coincide where each face is its own
+//!   shell), with the faces, so that a feature edge between them lies on the modeller's
+//!   curve rather than on a traced intersection.
 //! - Placements (`AXIS2_PLACEMENT_3D`) are applied, and the parts of an assembly are put in
 //!   place by their representation relationships ([`super::placements`]), once per
 //!   occurrence.
@@ -31,8 +32,9 @@ use std::path::Path;
 
 use super::error::StepError;
 use super::parse::{read_step, StepFile, StepInstance, StepValue};
+use crate::face_edges::edges_between_faces;
 use crate::iges::affine::{transform_curve, transform_shape, transform_surface, Affine, IDENTITY};
-use crate::model::{EntityGeometry, GeometricEntity, GeometryModel, ModelEdge};
+use crate::model::{EntityGeometry, GeometricEntity, GeometryModel};
 use crate::shapes::AnalyticShape;
 use crate::vec3::{cross, dot, norm, scale, sub};
 use crate::NurbsCurve;
@@ -155,7 +157,7 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
     if unique.is_empty() {
         return Err(StepError::Empty);
     }
-    let edges = c.model_edges(&unique);
+    let boundaries = c.face_boundaries(&unique);
     let mut model = GeometryModel::new(
         name_entities(
             unique
@@ -165,8 +167,9 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
         ),
         c.length_uncertainty()?,
     );
-    // (The twelve fillet faces of Ventilator.stp round one torus: each edge bounds all.)
-    model.set_edges(edges);
+    // Copies of one edge agree to the file's uncertainty (or to round-off).
+    let tolerance = model.uncertainty.unwrap_or(0.0).max(1e-9 * model.size());
+    model.set_edges(edges_between_faces(boundaries, tolerance));
     Ok(model)
 }
 
@@ -180,45 +183,32 @@ type Placed<'a> = (
 );
 
 impl Converter<'_> {
-    /// The CAD edges between the faces among `entities` (in their order: entity indices),
-    /// each once per placement, with the faces it bounds. An edge whose curve cannot be
-    /// converted is left out: its seam is then traced as the faces' intersection, as for
-    /// a model without edges.
-    fn model_edges(&self, entities: &[Placed]) -> Vec<ModelEdge> {
+    /// The curves of the edges bounding each face among `entities` (entity index, its
+    /// edges' curves, once per placement), from which the edges between faces are found
+    /// ([`edges_between_faces`]: faces sewn share `EDGE_CURVE`s, faces each in its own
+    /// shell hold copies). An edge whose curve cannot be converted is left out: its seam is
+    /// then traced as the faces' intersection, as for a model without edges.
+    fn face_boundaries(&self, entities: &[Placed]) -> Vec<(usize, Vec<(String, NurbsCurve)>)> {
         let mut curves: BTreeMap<u64, Option<NurbsCurve>> = BTreeMap::new();
-        let mut edges: Vec<ModelEdge> = Vec::new();
-        let mut index: BTreeMap<(u64, Vec<u64>), usize> = BTreeMap::new();
+        let mut out = Vec::new();
         for (k, (face, _, geometry, _, t)) in entities.iter().enumerate() {
             if !matches!(geometry, EntityGeometry::Surface(_)) {
                 continue;
             }
+            let mut list = Vec::new();
             for edge in self.face_edges(face).unwrap_or_default() {
-                let key = (edge.id, t.iter().flatten().map(|x| x.to_bits()).collect());
-                if let Some(&e) = index.get(&key) {
-                    if !edges[e].faces.contains(&k) {
-                        edges[e].faces.push(k);
-                    }
-                    continue;
-                }
                 let curve = curves
                     .entry(edge.id)
                     .or_insert_with(|| self.edge_curve(edge, 0).ok())
                     .clone();
-                let Some(Ok(curve)) = curve.map(|c| transform_curve(c, t)) else {
-                    continue;
-                };
-                index.insert(key, edges.len());
-                edges.push(ModelEdge {
-                    origin: format!("STEP #{} EDGE_CURVE (line {})", edge.id, edge.line),
-                    curve,
-                    faces: vec![k],
-                });
+                if let Some(Ok(curve)) = curve.map(|c| transform_curve(c, t)) {
+                    let origin = format!("STEP #{} EDGE_CURVE (line {})", edge.id, edge.line);
+                    list.push((origin, curve));
+                }
             }
+            out.push((k, list));
         }
-        // Only seams between faces: an edge of one face alone (a periodic face's own seam,
-        // a free boundary) carries no feature edge.
-        edges.retain(|e| e.faces.len() >= 2);
-        edges
+        out
     }
 }
 
