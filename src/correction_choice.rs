@@ -29,11 +29,18 @@ pub(crate) fn active_corrections(
         })
 }
 
+/// What a correction has to lift the scaled-Jacobian bound of the worst element it touches
+/// by to be kept, and how much worse the mesh's least bound may be with the corrections
+/// before they are all undone: less is the round-off of the bounds and of the geometry
+/// (one model from STEP and from IGES differs by ~1e-9), and a choice made by round-off
+/// differs between two descriptions of one model.
+pub(crate) const CORRECTION_GAIN: f64 = 1e-6;
+
 /// The `corrected` edges of `mesh` whose worst cell is not better certified with the
-/// corrections than without any (scaled-Jacobian bounds per cell `with` and `without`): a
-/// correction has to lift the worst element it touches. (Judged per cell instead, a
-/// correction that turns an inverted element valid would go for a 0.01 loss on a good
-/// neighbour.)
+/// corrections than without any, by more than [`CORRECTION_GAIN`] (scaled-Jacobian bounds
+/// per cell `with` and `without`): a correction has to lift the worst element it touches.
+/// (Judged per cell instead, a correction that turns an inverted element valid would go
+/// for a 0.01 loss on a good neighbour.)
 pub(crate) fn corrections_not_helping(
     mesh: &HighOrderMesh,
     corrected: &BTreeSet<[u32; 2]>,
@@ -56,7 +63,7 @@ pub(crate) fn corrections_not_helping(
     }
     worst
         .into_iter()
-        .filter(|(_, (with, without))| with <= without)
+        .filter(|(_, (with, without))| *with <= without + CORRECTION_GAIN)
         .map(|(key, _)| key)
         .collect()
 }
@@ -115,6 +122,14 @@ mod tests {
         // The second's loss makes it the worst on the shared edge, below the worst
         // without: the shared edge goes.
         assert_eq!(losers([0.6, 0.05], [0.1, 0.4]), BTreeSet::from([[0, 1]]));
+        // Better by round-off only (as one model read from STEP and from IGES differs):
+        // not better; by more than [`CORRECTION_GAIN`]: better.
+        let tiny = 0.2 * CORRECTION_GAIN;
+        assert_eq!(
+            losers([0.5, 0.3 + tiny], [0.4, 0.3]),
+            BTreeSet::from([[0, 1]])
+        );
+        assert!(losers([0.5, 0.3 + 5.0 * CORRECTION_GAIN], [0.4, 0.3]).is_empty());
         // Degenerate (NaN) bounds count as the worst.
         let mut q = assess(&mesh, &QualityOptions::default()).unwrap();
         q.scaled_jacobian[1] = f64::NAN;

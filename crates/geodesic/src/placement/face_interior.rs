@@ -124,7 +124,19 @@ pub(super) fn geodesic_point(
             // globally otherwise (a search over the whole surface, far costlier on a large
             // B-spline face).
             let tolerance = 1e-9 * chart.size();
-            let valid = |(uv, x): ([f64; 2], [f64; 3])| distance(chart.point(uv), x) <= tolerance;
+            // A parameter outside the chart is none: feature edges give [0, 0] for
+            // "unknown", which folds onto a corner of a patch that starts elsewhere (a
+            // wing's trailing-edge vertex sits at such a corner of its IGES patch).
+            let inside = |uv: [f64; 2]| {
+                (0..2).all(|d| {
+                    chart
+                        .bounded_range(d)
+                        .is_none_or(|(a, b)| (a..=b).contains(&uv[d]))
+                })
+            };
+            let valid = |(uv, x): ([f64; 2], [f64; 3])| {
+                inside(uv) && distance(chart.point(uv), x) <= tolerance
+            };
             let invert = |x: [f64; 3], near: Option<[f64; 2]>| {
                 near.map(|g| chart.project_near(x, g))
                     .filter(|(_, y)| distance(*y, x) <= tolerance)

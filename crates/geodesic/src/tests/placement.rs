@@ -270,3 +270,81 @@ fn an_edge_between_faces_on_one_surface_is_placed_on_that_surface() {
         assert!(t.max_geometry_distance < 1e-13);
     }
 }
+
+/// A face node beside a feature edge comes out the same from a wing's STEP and IGES
+/// exports (wing_body: the facet at the wing root's trailing edge). The feature edge gives
+/// its points no surface parameter ([0, 0]); the IGES patch of the wing starts at
+/// v = 0.2995, so [0, 0] folds onto its corner — where the root vertex is — and was taken
+/// for that vertex's parameter: the edge's miss (Eq. (6) meeting the feature curve) came
+/// out 1.7e-2 off and moved the node by as much.
+#[test]
+fn a_face_node_beside_a_feature_edge_is_the_same_from_step_and_iges() {
+    use super::edge_carriers::{vertex_parameters, EdgeCarrier};
+    use super::face_interior::place_facet;
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cad");
+    let linear = hocurve_io::read_msh(&root.join("wing_body.msh")).unwrap();
+    let step = hocurve_nurbs::step::read_step_geometry(&root.join("wing_body.step")).unwrap();
+    let iges = hocurve_nurbs::iges::read_iges_geometry(&root.join("wing_body.igs")).unwrap();
+    // The facet's vertices: two on the trailing edge (its root end on the fuselage too),
+    // one on the upper surface.
+    let corners = [
+        [0.530806, -1.107102, 0.0],
+        [0.570046, -0.47926, 0.0],
+        [0.354389, -0.78254, 0.024855],
+    ];
+    let vertex = |x: [f64; 3]| {
+        linear
+            .vertices
+            .iter()
+            .position(|v| distance(*v, x) < 1e-5)
+            .unwrap() as u32
+    };
+    let [v0, v1, v2] = corners.map(vertex);
+    let mut nodes = Vec::new();
+    for model in [&step, &iges] {
+        let a = associate_boundary(&linear, model, AssociationRule::NameThenNearest, None).unwrap();
+        let on = |x: [f64; 3]| {
+            let mut e: Vec<usize> = (0..model.entities.len())
+                .filter(|&k| model.entities[k].distance(x) < 1e-6)
+                .collect();
+            e.sort_unstable();
+            e
+        };
+        // The upper surface holds all three; the lower one meets it along the edge.
+        let upper = *on(corners[2]).first().unwrap();
+        let edge: Vec<usize> = on(corners[0]);
+        assert_eq!(edge.len(), 2);
+        let edges: Vec<([u32; 2], Vec<usize>)> = vec![
+            ([v0.min(v1), v0.max(v1)], edge),
+            ([v1.min(v2), v1.max(v2)], vec![upper]),
+            ([v0.min(v2), v0.max(v2)], vec![upper]),
+        ];
+        let charts = crate::chart::GeometryCharts::new(model);
+        let params = vertex_parameters(model, &a, &edges);
+        let mut carriers: BTreeMap<[u32; 2], EdgeCarrier> = BTreeMap::new();
+        for (e, entities) in &edges {
+            let c = edge_carrier(
+                &charts,
+                &a,
+                &params,
+                *e,
+                entities,
+                1e-9,
+                &Default::default(),
+            )
+            .unwrap();
+            carriers.insert(*e, c);
+        }
+        let reference = ReferenceNodes::new(Shape::Tri, 3, NodeFamily::Equispaced);
+        let ids: Vec<u32> = [v0, v1, v2]
+            .into_iter()
+            .chain(1_000_000..1_000_007)
+            .collect();
+        let placed = place_facet(&charts, &carriers, &ids, Shape::Tri, &reference, upper).unwrap();
+        let x = placed[0].1;
+        assert!(model.entities[upper].distance(x) < 1e-12);
+        nodes.push(x);
+    }
+    let gap = distance(nodes[0], nodes[1]);
+    assert!(gap < 1e-9, "{gap:e}: {nodes:?}");
+}
