@@ -20,6 +20,25 @@ fn options(order: usize) -> JobOptions {
     }
 }
 
+/// Outputs of the mesh alone, at `mesh`.
+fn mesh_only(mesh: PathBuf) -> Outputs {
+    Outputs {
+        mesh,
+        report: None,
+        plots: None,
+        format: Default::default(),
+    }
+}
+
+/// The inputs of fixture `name`: its mesh and its geometry file `name.ext`.
+fn fixture_inputs(name: &str, ext: &str) -> Inputs {
+    Inputs::read(
+        &fixture(&format!("{name}.msh")),
+        Some(&fixture(&format!("{name}.{ext}"))),
+    )
+    .unwrap()
+}
+
 #[test]
 fn a_job_writes_the_mesh_the_report_and_the_plots_together() {
     let dir = tempfile::tempdir().unwrap();
@@ -177,17 +196,8 @@ fn step_and_iges_place_the_same_boundary_nodes() {
     ] {
         let mut nodes = Vec::new();
         for ext in ["step", "igs"] {
-            let outputs = Outputs {
-                mesh: dir.path().join(format!("{name}_{ext}.msh")),
-                report: None,
-                plots: None,
-                format: Default::default(),
-            };
-            let inputs = Inputs::read(
-                &fixture(&format!("{name}.msh")),
-                Some(&fixture(&format!("{name}.{ext}"))),
-            )
-            .unwrap();
+            let outputs = mesh_only(dir.path().join(format!("{name}_{ext}.msh")));
+            let inputs = fixture_inputs(name, ext);
             let mut job = options(3);
             job.curve.boundary_only = true;
             job.curve.untangle = false;
@@ -222,17 +232,8 @@ fn step_and_iges_place_the_same_boundary_nodes() {
 fn coarse_parts_with_faces_bounded_by_feature_curves_certify_at_p5() {
     let dir = tempfile::tempdir().unwrap();
     for (name, ext) in [("plate_holes", "step"), ("tee_pipes", "igs")] {
-        let outputs = Outputs {
-            mesh: dir.path().join(format!("{name}.msh")),
-            report: None,
-            plots: None,
-            format: Default::default(),
-        };
-        let inputs = Inputs::read(
-            &fixture(&format!("{name}.msh")),
-            Some(&fixture(&format!("{name}.{ext}"))),
-        )
-        .unwrap();
+        let outputs = mesh_only(dir.path().join(format!("{name}.msh")));
+        let inputs = fixture_inputs(name, ext);
         let finished = curve_and_write(&inputs, &options(5), &outputs, &mut |_| {})
             .unwrap_or_else(|e| panic!("{name}: {e}"));
         assert!(

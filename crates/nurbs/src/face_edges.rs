@@ -5,8 +5,7 @@
 //! curve the modeller gave a seam where faces meet tangentially, which has no
 //! well-defined intersection to trace.
 
-use std::collections::BTreeMap;
-
+use crate::groups::Groups;
 use crate::inversion::closest_point_on_curve;
 use crate::model::ModelEdge;
 use crate::vec3::distance;
@@ -49,32 +48,20 @@ pub(crate) fn edges_between_faces(
     let key = |c: &EdgeCopy| c.ends[0][0].min(c.ends[1][0]);
     copies.sort_by(|a, b| key(a).total_cmp(&key(b)));
     let n = copies.len();
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut k: usize) -> usize {
-        while parent[k] != k {
-            parent[k] = parent[parent[k]];
-            k = parent[k];
-        }
-        k
-    }
+    let mut groups = Groups::new(n);
     for i in 0..n {
         for j in i + 1..n {
             if key(&copies[j]) - key(&copies[i]) > tolerance {
                 break;
             }
             if same_edge(&copies[i], &copies[j], tolerance) {
-                let (a, b) = (root(&mut parent, i), root(&mut parent, j));
-                parent[a.max(b)] = a.min(b);
+                groups.join(i, j);
             }
         }
     }
-    let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    for k in 0..n {
-        let r = root(&mut parent, k);
-        groups.entry(r).or_default().push(k);
-    }
     let mut edges: Vec<ModelEdge> = groups
-        .into_values()
+        .of(|_| true)
+        .into_iter()
         .filter_map(|group| {
             let mut faces: Vec<usize> = group.iter().map(|&k| copies[k].face).collect();
             faces.sort_unstable();

@@ -22,6 +22,7 @@ pub mod basis;
 pub mod curve;
 mod error;
 mod face_edges;
+mod groups;
 pub mod hull;
 pub mod iges;
 pub mod inversion;

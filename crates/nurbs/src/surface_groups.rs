@@ -5,6 +5,7 @@
 
 use std::collections::BTreeMap;
 
+use crate::groups::Groups;
 use crate::model::{EntityGeometry, GeometricEntity};
 use crate::shapes::AnalyticShape;
 use crate::vec3::norm;
@@ -17,19 +18,7 @@ const SAME: f64 = 1e-9;
 /// 3 × 3 samples of the other's within 1e-9 (relative), both ways.
 pub(crate) fn same_surfaces(entities: &[GeometricEntity]) -> Vec<Vec<usize>> {
     let n = entities.len();
-    // Union–find over the entities.
-    let mut parent: Vec<usize> = (0..n).collect();
-    fn root(parent: &mut [usize], mut k: usize) -> usize {
-        while parent[k] != k {
-            parent[k] = parent[parent[k]];
-            k = parent[k];
-        }
-        k
-    }
-    fn join(parent: &mut [usize], a: usize, b: usize) {
-        let (a, b) = (root(parent, a), root(parent, b));
-        parent[a.max(b)] = a.min(b);
-    }
+    let mut groups = Groups::new(n);
     let surface = |k: usize| match &entities[k].geometry {
         EntityGeometry::Surface(s) => Some(s),
         EntityGeometry::Curve(_) => None,
@@ -51,7 +40,7 @@ pub(crate) fn same_surfaces(entities: &[GeometricEntity]) -> Vec<Vec<usize>> {
             .iter()
             .find(|&&j| entities[j].geometry == entities[k].geometry)
         {
-            join(&mut parent, j, k);
+            groups.join(j, k);
         } else {
             bucket.push(k);
         }
@@ -93,19 +82,12 @@ pub(crate) fn same_surfaces(entities: &[GeometricEntity]) -> Vec<Vec<usize>> {
                 break;
             }
             if on_shape_of(k, other) && on_shape_of(other, k) {
-                join(&mut parent, k, other);
+                groups.join(k, other);
             }
         }
     }
-    let mut groups: BTreeMap<usize, Vec<usize>> = BTreeMap::new();
-    for k in 0..n {
-        if surface(k).is_some() {
-            let r = root(&mut parent, k);
-            groups.entry(r).or_default().push(k);
-        }
-    }
     let mut twins = vec![Vec::new(); n];
-    for group in groups.into_values() {
+    for group in groups.of(|k| surface(k).is_some()) {
         for &k in &group {
             twins[k] = group.clone();
         }
