@@ -280,7 +280,11 @@ fn bisector_minimum(
     } else if let Some(t) = newton_root(slope_and_curvature, lo, hi) {
         t
     } else if slope(lo) < 0.0 && slope(hi) > 0.0 {
-        polish_root(slope, 0.5 * (lo + hi), 0.5 * (hi - lo))
+        // (Bracketed by the ends themselves: the interval rebuilt from its midpoint and
+        // half-width misses an end by round-off, and an end at a patch edge can have a
+        // slope of 1e-21 there and −2e-16 a rounding away — the search then found no sign
+        // change and took the midpoint, a quarter chord inside the face.)
+        root_between(slope, lo, hi).unwrap_or(0.0_f64.clamp(lo, hi))
     } else {
         let cost = |t: f64| {
             let x = chart.point(at(t));
@@ -331,17 +335,23 @@ fn newton_root(g_and_slope: impl Fn(f64) -> (f64, f64), lo: f64, hi: f64) -> Opt
 /// The root of `g` near `t0`, searched in [t0 − h, t0 + h]: bisection with secant steps
 /// (regula falsi, Illinois variant). Returns `t0` when `g` does not change sign there.
 fn polish_root(g: impl Fn(f64) -> f64, t0: f64, h: f64) -> f64 {
-    let (mut a, mut b) = (t0 - h, t0 + h);
+    root_between(g, t0 - h, t0 + h).unwrap_or(t0)
+}
+
+/// The root of `g` between `a` and `b`, where it changes sign (else `None`): bisection
+/// with secant steps (regula falsi, Illinois variant).
+fn root_between(g: impl Fn(f64) -> f64, a: f64, b: f64) -> Option<f64> {
+    let (mut a, mut b) = (a, b);
     let (mut ga, mut gb) = (g(a), g(b));
     if ga * gb >= 0.0 || ga.is_nan() || gb.is_nan() {
-        return t0;
+        return None;
     }
     let mut side = 0;
     for _ in 0..100 {
         let t = (a * gb - b * ga) / (gb - ga);
         let gt = g(t);
         if gt == 0.0 || (b - a).abs() <= 4.0 * f64::EPSILON * t.abs().max(1e-300) {
-            return t;
+            return Some(t);
         }
         if gt * gb < 0.0 {
             (a, ga) = (b, gb);
@@ -358,7 +368,7 @@ fn polish_root(g: impl Fn(f64) -> f64, t0: f64, h: f64) -> f64 {
             break;
         }
     }
-    b
+    Some(b)
 }
 
 /// Minimum of a unimodal `f` on [lo, hi] by Brent's method (golden section with parabolic

@@ -183,3 +183,50 @@ fn on_a_torus_the_path_length_is_within_its_tolerance_of_the_limit() {
         assert!(path.points.len() < 257, "stopped before the cap");
     }
 }
+
+/// A path between two points of a patch's straight edge runs along that edge, whichever
+/// end of the parameter range the edge is at (the IGES export of wing_body has the
+/// trailing edge at u = 0, the STEP one at u = u_max). Found: from vertex parameters a
+/// rounding off u = 0, the bisector search saw the sign of its slope change between its
+/// ends but not between the ends it rebuilt from its midpoint, took the midpoint, and the
+/// path ran a quarter chord inside the wing (face nodes beside it 7e-3 off).
+#[test]
+fn a_path_between_two_points_of_a_straight_patch_edge_runs_along_it() {
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cad");
+    let iges = hocurve_nurbs::iges::read_iges_geometry(&root.join("wing_body.igs")).unwrap();
+    let step = hocurve_nurbs::step::read_step_geometry(&root.join("wing_body.step")).unwrap();
+    // The trailing edge from the tip (0.5, −1.6, 0) to (0.5308, −1.1071, 0), on the
+    // upper surface (entity 1 of either file).
+    let (tip, inboard) = (
+        [0.5, -1.6, 0.0],
+        [0.530806140575889, -1.107101750785777, 0.0],
+    );
+    let straight = distance(tip, inboard);
+    for (what, model) in [("IGES", &iges), ("STEP", &step)] {
+        let e = &model.entities[1];
+        let hocurve_nurbs::EntityGeometry::Surface(s) = &e.geometry else {
+            panic!("{what}: not a surface");
+        };
+        let chart = SurfaceChart::new(s);
+        let (a, b) = (e.closest_point(tip).param, e.closest_point(inboard).param);
+        // The parameters as found, and a rounding either way off the edge's u.
+        for nudge in [0.0_f64, 1e-19, -1e-19, 1e-17] {
+            let ends = [[a[0] + nudge.abs(), a[1]], [(b[0] + nudge).max(0.0), b[1]]];
+            let path = GeodesicPath::between(&chart, ends[0], ends[1], 1e-6);
+            assert!((path.length() - straight).abs() < 1e-9 * straight, "{what}");
+            for f in [0.25, 0.5, 0.75] {
+                let x = path.at_fraction(&chart, f).1;
+                let on_edge = [
+                    tip[0] + f * (inboard[0] - tip[0]),
+                    tip[1] + f * (inboard[1] - tip[1]),
+                    0.0,
+                ];
+                let off = distance(x, on_edge);
+                assert!(
+                    off < 1e-8,
+                    "{what} {nudge:e} at {f}: {x:?} is {off:e} off the edge"
+                );
+            }
+        }
+    }
+}
