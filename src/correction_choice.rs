@@ -30,10 +30,10 @@ pub(crate) fn active_corrections(
 }
 
 /// What a correction has to lift the scaled-Jacobian bound of the worst element it touches
-/// by to be kept, and how much worse the mesh's least bound may be with the corrections
-/// before they are all undone: less is the round-off of the bounds and of the geometry
-/// (one model from STEP and from IGES differs by ~1e-9), and a choice made by round-off
-/// differs between two descriptions of one model.
+/// by to be kept: less is the round-off of the bounds and of the geometry (one model from
+/// STEP and from IGES differs by ~1e-9), and a choice made by round-off differs between
+/// two descriptions of one model. (Undoing them all when the mesh's least bound is lower
+/// with them stays strict: corrections never leave the mesh certified worse.)
 pub(crate) const CORRECTION_GAIN: f64 = 1e-6;
 
 /// The `corrected` edges of `mesh` whose worst cell is not better certified with the

@@ -34,7 +34,7 @@ pub use crate::report::{CurveReport, StepTimings};
 use crate::attempt::{curve_and_certify, Boundary};
 use crate::certification::assess_certified;
 use crate::correction_choice::{
-    active_corrections, certified_scaled_jacobians, corrections_not_helping, CORRECTION_GAIN,
+    active_corrections, certified_scaled_jacobians, corrections_not_helping,
 };
 use crate::precurving::{
     cells_with_doubly_curved_edges, edges_opposite_doubly_curved_corners,
@@ -606,9 +606,8 @@ fn curve_mesh_once<'g>(
                 .into_iter()
                 .fold(f64::INFINITY, f64::min)
         };
-        if losers.len() == corrected.len()
-            || minimum(&quality) < minimum(&without_quality) - CORRECTION_GAIN
-        {
+        // (Strictly: with corrections the mesh is never certified worse than without.)
+        if losers.len() == corrected.len() || minimum(&quality) < minimum(&without_quality) {
             (attempt, quality) = (without, without_quality);
             undone_corrections = corrected.len();
         }
