@@ -11,6 +11,10 @@ use crate::model::ModelEdge;
 use crate::vec3::distance;
 use crate::NurbsCurve;
 
+/// Each 3D face's model-space boundary curves, by entity index: its copies of the edges
+/// that bound it, each with where it came from.
+pub(crate) type FaceBoundaries = Vec<(usize, Vec<(String, NurbsCurve)>)>;
+
 /// One face's copy of an edge: the face (entity index), where it came from, its curve and
 /// its end points.
 struct EdgeCopy {
@@ -24,10 +28,7 @@ struct EdgeCopy {
 /// curves): copies with the same end points whose interior points lie on each other within
 /// `tolerance` are one edge; an edge is kept when it bounds two faces or more (a periodic
 /// face's seam bounds that face alone, twice). Faces ascending, the first copy's curve.
-pub(crate) fn edges_between_faces(
-    faces: Vec<(usize, Vec<(String, NurbsCurve)>)>,
-    tolerance: f64,
-) -> Vec<ModelEdge> {
+pub(crate) fn edges_between_faces(faces: FaceBoundaries, tolerance: f64) -> Vec<ModelEdge> {
     let mut copies: Vec<EdgeCopy> = faces
         .into_iter()
         .flat_map(|(face, curves)| {

@@ -19,6 +19,7 @@
 
 pub mod arc_length;
 pub mod basis;
+mod conics;
 pub mod curve;
 mod error;
 mod face_edges;

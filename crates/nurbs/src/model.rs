@@ -3,6 +3,7 @@
 
 use std::sync::OnceLock;
 
+use crate::face_edges::{edges_between_faces, FaceBoundaries};
 use crate::hull::SpanHulls;
 use crate::inversion::{
     closest_point_on_curve, closest_point_on_curve_near, closest_point_on_surface,
@@ -333,6 +334,20 @@ impl GeometryModel {
             .get_or_init(|| same_surfaces(&self.entities))
             .get(entity)
             .map_or(&[], Vec::as_slice)
+    }
+
+    /// How far apart two faces' copies of one edge may be and still be one edge: the
+    /// file's stated uncertainty, or round-off (1e-9 of the model) when it states less.
+    pub(crate) fn edge_copy_tolerance(&self) -> f64 {
+        self.uncertainty.unwrap_or(0.0).max(1e-9 * self.size())
+    }
+
+    /// Sets the model's CAD edges from each face's copies of its boundary curves (`faces`:
+    /// entity index, its curves), copies within [`Self::edge_copy_tolerance`] of each
+    /// other being one edge (see [`edges_between_faces`]).
+    pub(crate) fn set_edges_between_faces(&mut self, faces: FaceBoundaries) {
+        let tolerance = self.edge_copy_tolerance();
+        self.set_edges(edges_between_faces(faces, tolerance));
     }
 
     /// Sets the model's CAD edges, each widened to every face on the same surface as one it

@@ -262,7 +262,7 @@ pub fn torus_band(
             ),
         });
     }
-    let (knots, points, weights) = crate::iges::curve_primitives::rational_arc(
+    let (knots, points, weights) = crate::conics::rational_arc(
         [major_radius, 0.0, 0.0],
         [minor_radius, 0.0, 0.0],
         [0.0, minor_radius, 0.0],

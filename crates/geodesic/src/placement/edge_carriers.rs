@@ -161,21 +161,27 @@ fn one_surface<'e>(geometry: &GeometryModel, entities: &'e [usize]) -> Option<&'
 
 impl EdgeCarrier<'_> {
     /// The point at `fraction` of the edge's length from its first vertex, with its surface
-    /// parameter where the carrier is one surface (zero otherwise: users re-invert).
-    pub(crate) fn at(&self, fraction: f64) -> ([f64; 2], [f64; 3]) {
+    /// parameter where the carrier is one surface (`None` otherwise: users invert).
+    pub(crate) fn at(&self, fraction: f64) -> (Option<[f64; 2]>, [f64; 3]) {
         match self {
-            EdgeCarrier::Curve(arc) => ([0.0; 2], arc.at(fraction)),
+            EdgeCarrier::Curve(arc) => (None, arc.at(fraction)),
             EdgeCarrier::Surface {
                 exact: Some((geodesic, [a, b])),
                 path,
                 ..
             } => (
-                path.parameter_near(fraction),
+                Some(path.parameter_near(fraction)),
                 geodesic.at_fraction(*a, *b, fraction),
             ),
-            EdgeCarrier::Surface { chart, path, .. } => path.at_fraction(chart, fraction),
-            EdgeCarrier::Feature(curve) => ([0.0; 2], curve.at(fraction)),
-            EdgeCarrier::Corrected(edge) => edge.at(fraction),
+            EdgeCarrier::Surface { chart, path, .. } => {
+                let (uv, x) = path.at_fraction(chart, fraction);
+                (Some(uv), x)
+            }
+            EdgeCarrier::Feature(curve) => (None, curve.at(fraction)),
+            EdgeCarrier::Corrected(edge) => {
+                let (uv, x) = edge.at(fraction);
+                (Some(uv), x)
+            }
         }
     }
 

@@ -26,16 +26,15 @@ pub(super) fn place_facet(
     entity: usize,
 ) -> Result<Vec<(u32, [f64; 3])>, GeodesicError> {
     // The point at `fraction` of the way from local vertex i to local vertex j.
-    let along =
-        |i: usize, j: usize, fraction: f64| -> Result<([f64; 2], [f64; 3]), GeodesicError> {
-            let (a, b) = (nodes[i], nodes[j]);
-            let key = [a.min(b), a.max(b)];
-            let carrier = carriers
-                .get(&key)
-                .ok_or_else(|| GeodesicError::Mismatch(format!("no carrier for edge {key:?}")))?;
-            let f = if a < b { fraction } else { 1.0 - fraction };
-            Ok(carrier.at(f))
-        };
+    let along = |i: usize, j: usize, fraction: f64| -> Result<EdgePoint, GeodesicError> {
+        let (a, b) = (nodes[i], nodes[j]);
+        let key = [a.min(b), a.max(b)];
+        let carrier = carriers
+            .get(&key)
+            .ok_or_else(|| GeodesicError::Mismatch(format!("no carrier for edge {key:?}")))?;
+        let f = if a < b { fraction } else { 1.0 - fraction };
+        Ok(carrier.at(f))
+    };
     // Eqs. (6), (7) reproduce an edge only where it is the geodesic between its vertices
     // on this facet's surface. Other edges — feature curves where two surfaces meet, edges
     // rebuilt by the minimum-angle correction — the constructions miss by `share` of their
@@ -99,14 +98,18 @@ pub(super) fn place_facet(
     Ok(out)
 }
 
+/// A point on the boundary with its surface parameter where one is known (edge carriers on
+/// a single surface know it; curves and feature edges do not).
+pub(super) type EdgePoint = (Option<[f64; 2]>, [f64; 3]);
+
 /// Points at fractions along two boundary points' geodesic on `entity`.
 pub(super) fn geodesic_point(
     geometry: &GeometryCharts,
     entity: usize,
-    from: ([f64; 2], [f64; 3]),
-    to: ([f64; 2], [f64; 3]),
+    from: EdgePoint,
+    to: EdgePoint,
     fraction: f64,
-) -> ([f64; 2], [f64; 3]) {
+) -> EdgePoint {
     let entity_geometry = &geometry.geometry.entities[entity];
     if let Some(exact) = entity_geometry
         .analytic
@@ -124,9 +127,8 @@ pub(super) fn geodesic_point(
             // globally otherwise (a search over the whole surface, far costlier on a large
             // B-spline face).
             let tolerance = 1e-9 * chart.size();
-            // A parameter outside the chart is none: feature edges give [0, 0] for
-            // "unknown", which folds onto a corner of a patch that starts elsewhere (a
-            // wing's trailing-edge vertex sits at such a corner of its IGES patch).
+            // A parameter outside the chart's range is not this chart's (a projection's
+            // clamped guess from another patch can be).
             let inside = |uv: [f64; 2]| {
                 (0..2).all(|d| {
                     chart
@@ -134,8 +136,8 @@ pub(super) fn geodesic_point(
                         .is_none_or(|(a, b)| (a..=b).contains(&uv[d]))
                 })
             };
-            let valid = |(uv, x): ([f64; 2], [f64; 3])| {
-                inside(uv) && distance(chart.point(uv), x) <= tolerance
+            let valid = |(uv, x): EdgePoint| {
+                uv.is_some_and(|uv| inside(uv) && distance(chart.point(uv), x) <= tolerance)
             };
             let invert = |x: [f64; 3], near: Option<[f64; 2]>| {
                 near.map(|g| chart.project_near(x, g))
@@ -143,23 +145,26 @@ pub(super) fn geodesic_point(
                     .map_or_else(|| entity_geometry.closest_point(x).param, |(uv, _)| uv)
             };
             let (from_ok, to_ok) = (valid(from), valid(to));
-            let a = if from_ok {
-                from.0
-            } else {
-                invert(from.1, to_ok.then_some(to.0))
+            let a = match from.0 {
+                Some(uv) if from_ok => uv,
+                _ => invert(from.1, to.0.filter(|_| to_ok)),
             };
-            let b = if to_ok { to.0 } else { invert(to.1, Some(a)) };
+            let b = match to.0 {
+                Some(uv) if to_ok => uv,
+                _ => invert(to.1, Some(a)),
+            };
             let path = GeodesicPath::between(chart, a, b, DEFAULT_LENGTH_TOLERANCE);
-            path.at_fraction(chart, fraction)
+            let (uv, x) = path.at_fraction(chart, fraction);
+            (Some(uv), x)
         }
         _ => {
             let x = add(from.1, scale(sub(to.1, from.1), fraction));
-            ([0.0; 2], x)
+            (None, x)
         }
     }
 }
 
-type Along<'a> = dyn Fn(usize, usize, f64) -> Result<([f64; 2], [f64; 3]), GeodesicError> + 'a;
+type Along<'a> = dyn Fn(usize, usize, f64) -> Result<EdgePoint, GeodesicError> + 'a;
 /// `miss(i, j, s)`: what the construction misses of the edge from local vertex i to j at
 /// fraction s (zero at both vertices).
 type Miss<'a> = dyn Fn(usize, usize, f64) -> Result<[f64; 3], GeodesicError> + 'a;
@@ -248,12 +253,12 @@ fn quadrilateral_node(
 }
 
 /// Closest point of `entity` to `x` (Π_S in Eqs. (6), (7)), by Newton from `guess` on a
-/// surface, in closed form where the entity has one.
+/// surface (globally without one), in closed form where the entity has one.
 pub(super) fn project(
     geometry: &GeometryCharts,
     entity: usize,
     x: [f64; 3],
-    guess: [f64; 2],
+    guess: Option<[f64; 2]>,
 ) -> [f64; 3] {
     let e = &geometry.geometry.entities[entity];
     if let Some(shape) = &e.analytic {
@@ -261,7 +266,10 @@ pub(super) fn project(
     }
     match (&e.geometry, geometry.chart(entity)) {
         (EntityGeometry::Curve(c), _) => closest_point_on_curve(c, x).point,
-        (EntityGeometry::Surface(_), Some(chart)) => chart.project_near(x, guess).1,
+        (EntityGeometry::Surface(_), Some(chart)) => match guess {
+            Some(guess) => chart.project_near(x, guess).1,
+            None => e.closest_point(x).point,
+        },
         (EntityGeometry::Surface(_), None) => e.closest_point(x).point,
     }
 }

@@ -46,7 +46,7 @@ use super::model::{IgesEntity, IgesModel};
 use super::naming::name_entities;
 use super::parse::read_iges;
 use super::tolerance::RECOGNITION_TOLERANCE;
-use crate::face_edges::edges_between_faces;
+use crate::face_edges::FaceBoundaries;
 use crate::model::{EntityGeometry, GeometryModel};
 use crate::vec3::distance;
 use crate::NurbsCurve;
@@ -95,19 +95,9 @@ pub fn geometry_from_iges(model: &IgesModel) -> Result<GeometryModel, IgesError>
             }
         }
     }
-    // Copies of one edge written for each of its faces agree to the file's stated
-    // resolution (or to round-off).
-    let tolerance = geometry
-        .uncertainty
-        .unwrap_or(0.0)
-        .max(1e-9 * geometry.size());
-    geometry.set_edges(edges_between_faces(boundaries, tolerance));
+    geometry.set_edges_between_faces(boundaries);
     Ok(geometry)
 }
-
-/// Each 3D face's model-space boundary curves, by entity index (see
-/// [`edges_between_faces`]).
-type FaceBoundaries = Vec<(usize, Vec<(String, NurbsCurve)>)>;
 
 /// Reads an IGES file and converts it with [`geometry_from_iges`].
 pub fn read_iges_geometry(path: &Path) -> Result<GeometryModel, IgesError> {

@@ -6,13 +6,14 @@ use super::affine::{
     apply, apply_linear, compose, similarity_scale, transform_curve, transform_shape, Affine,
 };
 use super::converter::{geometry_error, unsupported, Converted, Converter};
-use super::curve_primitives::{circular_arc, elliptic_arc, line_segment};
+use super::curve_primitives::{circular_arc, elliptic_arc};
 use super::entities::EntityData;
 use super::error::IgesError;
 use super::join::concatenate;
 use super::model::IgesEntity;
 use super::restrict::restrict_curve;
 use super::tolerance::RECOGNITION_TOLERANCE;
+use crate::conics::line_segment;
 use crate::model::EntityGeometry;
 use crate::shapes::AnalyticShape;
 use crate::NurbsCurve;

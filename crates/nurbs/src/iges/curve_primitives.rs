@@ -1,12 +1,11 @@
-//! The IGES curve primitives as exact NURBS: the 110 line segment and the 100 circular and
-//! 104 elliptic arcs, built on the rational quadratic arc that surfaces of revolution sweep
-//! too.
+//! The IGES curve primitives as exact NURBS: the 100 circular and 104 elliptic arcs, on the
+//! rational quadratic arc of [`crate::conics`] (the 110 line segment is its `line_segment`).
 
-use std::f64::consts::{FRAC_PI_2, TAU};
+use std::f64::consts::TAU;
 
 use super::tolerance::RECOGNITION_TOLERANCE;
-use crate::vec3::{add, scale};
-use crate::{NurbsCurve, NurbsError};
+use crate::conics::rational_arc;
+use crate::NurbsCurve;
 
 /// A full turn when `span` is 2π to [`RECOGNITION_TOLERANCE`] (exactly `TAU` then).
 pub(crate) fn snap_full_turn(span: f64) -> f64 {
@@ -15,53 +14,6 @@ pub(crate) fn snap_full_turn(span: f64) -> f64 {
     } else {
         span
     }
-}
-
-/// The rational quadratic arc `θ ↦ center + cos θ x_axis + sin θ y_axis` for
-/// θ ∈ [start, start + span], 0 < span ≤ 2π, in ⌈span / 90°⌉ pieces (Piegl & Tiller A7.1):
-/// knots at the piece angles, middle control points at `1 / cos(Δ/2)` with weight `cos(Δ/2)`.
-/// Returns (knots, control points, weights); a full turn ends exactly on its first point.
-pub(crate) fn rational_arc(
-    center: [f64; 3],
-    x_axis: [f64; 3],
-    y_axis: [f64; 3],
-    start: f64,
-    span: f64,
-) -> (Vec<f64>, Vec<[f64; 3]>, Vec<f64>) {
-    // 1e-9: a span of 90° written with rounding stays one piece
-    let pieces = ((span / FRAC_PI_2) - 1e-9).ceil().max(1.0) as usize;
-    let delta = span / pieces as f64;
-    let middle_weight = (0.5 * delta).cos();
-    let at = |theta: f64, s: f64| {
-        add(
-            center,
-            add(
-                scale(x_axis, s * theta.cos()),
-                scale(y_axis, s * theta.sin()),
-            ),
-        )
-    };
-    let mut knots = vec![start; 3];
-    let mut points = Vec::with_capacity(2 * pieces + 1);
-    let mut weights = Vec::with_capacity(2 * pieces + 1);
-    for i in 0..2 * pieces + 1 {
-        let theta = start + 0.5 * delta * i as f64;
-        if i % 2 == 1 {
-            points.push(at(theta, 1.0 / middle_weight));
-            weights.push(middle_weight);
-        } else {
-            points.push(at(theta, 1.0));
-            weights.push(1.0);
-        }
-    }
-    for k in 1..pieces {
-        knots.extend([start + delta * k as f64; 2]);
-    }
-    knots.extend([start + span; 3]);
-    if span == TAU {
-        points[2 * pieces] = points[0];
-    }
-    (knots, points, weights)
 }
 
 /// A 100 circular arc in its definition space: centre `(center, zt)`, counter-clockwise about
@@ -140,9 +92,4 @@ pub(super) fn elliptic_arc(
     let (knots, points, weights) =
         rational_arc([0.0, 0.0, zt], [ra, 0.0, 0.0], [0.0, rb, 0.0], theta0, span);
     NurbsCurve::new(2, knots, points, weights).map_err(|e| e.to_string())
-}
-
-/// The line segment from `start` to `end`, degree 1 on [0, 1].
-pub(crate) fn line_segment(start: [f64; 3], end: [f64; 3]) -> Result<NurbsCurve, NurbsError> {
-    NurbsCurve::non_rational(1, vec![0.0, 0.0, 1.0, 1.0], vec![start, end])
 }

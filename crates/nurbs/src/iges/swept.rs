@@ -1,7 +1,7 @@
 //! Swept surfaces as exact NURBS: a curve revolved about an axis (120 surface of revolution)
 //! or translated along a vector (122 tabulated cylinder).
 
-use super::curve_primitives::rational_arc;
+use crate::conics::rational_arc;
 use crate::vec3::{add, cross, dot, scale, sub};
 use crate::{NurbsCurve, NurbsError, NurbsSurface};
 

@@ -32,7 +32,7 @@ use std::path::Path;
 
 use super::error::StepError;
 use super::parse::{read_step, StepFile, StepInstance, StepValue};
-use crate::face_edges::edges_between_faces;
+use crate::face_edges::FaceBoundaries;
 use crate::iges::affine::{transform_curve, transform_shape, transform_surface, Affine, IDENTITY};
 use crate::model::{EntityGeometry, GeometricEntity, GeometryModel};
 use crate::shapes::AnalyticShape;
@@ -167,9 +167,7 @@ pub fn geometry_from_step(file: &StepFile) -> Result<GeometryModel, StepError> {
         ),
         c.length_uncertainty()?,
     );
-    // Copies of one edge agree to the file's uncertainty (or to round-off).
-    let tolerance = model.uncertainty.unwrap_or(0.0).max(1e-9 * model.size());
-    model.set_edges(edges_between_faces(boundaries, tolerance));
+    model.set_edges_between_faces(boundaries);
     Ok(model)
 }
 
@@ -188,7 +186,7 @@ impl Converter<'_> {
     /// ([`edges_between_faces`]: faces sewn share `EDGE_CURVE`s, faces each in its own
     /// shell hold copies). An edge whose curve cannot be converted is left out: its seam is
     /// then traced as the faces' intersection, as for a model without edges.
-    fn face_boundaries(&self, entities: &[Placed]) -> Vec<(usize, Vec<(String, NurbsCurve)>)> {
+    fn face_boundaries(&self, entities: &[Placed]) -> FaceBoundaries {
         let mut curves: BTreeMap<u64, Option<NurbsCurve>> = BTreeMap::new();
         let mut out = Vec::new();
         for (k, (face, _, geometry, _, t)) in entities.iter().enumerate() {

@@ -1,5 +1,5 @@
 use super::*;
-use crate::iges::curve_primitives::line_segment;
+use crate::conics::line_segment;
 use crate::shapes::circle;
 
 fn named(curves: Vec<NurbsCurve>) -> Vec<(String, NurbsCurve)> {

@@ -3,7 +3,8 @@
 //! answers.
 
 use super::*;
-use crate::iges::curve_primitives::{circular_arc, line_segment};
+use crate::conics::line_segment;
+use crate::iges::curve_primitives::circular_arc;
 use crate::iges::join::{concatenate, elevate, from_homogeneous, to_homogeneous, Homogeneous};
 use crate::iges::parse_iges;
 use crate::iges::tests::{build, ent, fixture, E, GLOBAL};

@@ -350,7 +350,7 @@ ENDSEC;\nEND-ISO-10303-21;"
 /// Every model edge lies on each face it bounds, along its whole curve, to the file's
 /// uncertainty (or 1e-9 of the model).
 fn check_edges_on_their_faces(model: &GeometryModel, what: &str) {
-    let tolerance = model.uncertainty.unwrap_or(0.0).max(1e-9 * model.size());
+    let tolerance = model.edge_copy_tolerance();
     for edge in &model.edges {
         assert!(edge.faces.len() >= 2, "{what}: {}", edge.origin);
         let (t0, t1) = edge.curve.domain();
@@ -496,7 +496,7 @@ fn an_iges_export_has_the_same_edges_between_faces_as_the_step_export() {
         assert!(!step.edges.is_empty(), "{name}");
         assert_eq!(iges.edges.len(), step.edges.len(), "{name}");
         check_edges_on_their_faces(&iges, name);
-        let tolerance = step.uncertainty.unwrap_or(0.0).max(1e-9 * step.size());
+        let tolerance = step.edge_copy_tolerance();
         for edge in &iges.edges {
             let (t0, t1) = edge.curve.domain();
             let on_a_step_edge = step.edges.iter().any(|s| {
