@@ -221,7 +221,7 @@ fn seam_note(r: &CurveReport) -> String {
     }
     let stated = r
         .geometry_uncertainty
-        .map_or_else(String::new, |u| format!(", the file's uncertainty {u:.1e}"));
+        .map_or_else(String::new, |u| format!(", the stated uncertainty {u:.1e}"));
     format!(
         " on edges where faces are {:.1e} apart{stated}; {:.1e} beyond that",
         r.max_seam_gap, r.distance_beyond_seams

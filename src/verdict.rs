@@ -108,8 +108,10 @@ pub fn off_geometry(curved: &CurvedMesh, model_size: f64) -> Option<String> {
     (beyond > GEOMETRY_DISTANCE_LIMIT * model_size).then(|| {
         let seams = match r.geometry_uncertainty {
             Some(u) if r.max_seam_gap > u => format!(
-                " (on edges where the geometry's faces are up to {:.1e} apart, more than the {u:.1e} to which the file says they meet: no point is on both)",
-                r.max_seam_gap
+                " (on edges where the geometry's faces are up to {:.1e} apart, more than the {u:.1e} to which the file says they meet: no point is on both; if the model is known to be that loose, --geometry-gap {:.1e} takes its faces to meet to that)",
+                r.max_seam_gap,
+                // Rounded up, so that the suggestion covers the gap measured.
+                r.max_seam_gap * 1.05
             ),
             _ if r.max_seam_gap > 0.0 => format!(
                 " beyond the {:.1e} by which the faces they lie on are apart",

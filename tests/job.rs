@@ -371,7 +371,8 @@ fn a_cell_folded_along_its_fillet_edge_is_refined_on_the_geometry() {
 /// faces cross (3e-3 away), and every order was refused as 2e-6 "off the geometry". Now
 /// the edge is the middle of the band, its written nodes lie exactly on one face, within
 /// the file's uncertainty of the other. The same file stating 1e-7 is refused, with that
-/// reason.
+/// reason and the `--geometry-gap` that would take the faces to meet that loosely: stated,
+/// the file is curved.
 #[test]
 fn faces_that_meet_only_to_the_files_uncertainty_are_curved_within_it() {
     let dir = tempfile::tempdir().unwrap();
@@ -426,6 +427,22 @@ fn faces_that_meet_only_to_the_files_uncertainty_are_curved_within_it() {
                 reason.contains("to which the file says they meet"),
                 "{reason}"
             );
+            // The refusal says what gap would do; stated so, the same file is curved.
+            let gap: f64 = reason
+                .split("--geometry-gap ")
+                .nth(1)
+                .and_then(|rest| rest.split_whitespace().next())
+                .and_then(|g| g.parse().ok())
+                .unwrap_or_else(|| panic!("no gap suggested: {reason}"));
+            assert!(gap > 1e-6 && gap < 5e-6, "{gap:e}");
+            let mut widened = inputs(&geometry);
+            widened.geometry.as_mut().unwrap().0.widen_uncertainty(gap);
+            let finished = curve_and_write(&widened, &options(3), &outputs("c.msh"), &mut |_| {})
+                .unwrap_or_else(|e| panic!("with the gap {gap:e}: {e}"));
+            let r = &finished.curved.report;
+            assert_eq!(r.certified_valid_elements, Some(r.elements));
+            assert_eq!(r.geometry_uncertainty, Some(gap));
+            assert!(r.max_seam_gap <= gap && r.distance_beyond_seams < 1e-12);
         }
         Err(e) => panic!("{e}"),
         Ok(_) => panic!("the faces are farther apart than the file says"),

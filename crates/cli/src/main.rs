@@ -53,6 +53,13 @@ enum Command {
         /// default 1e-4 × the mesh's bounding-box diagonal. Facets farther away stay straight.
         #[arg(long)]
         geometry_tolerance: Option<f64>,
+        /// Distance (in the geometry's length unit, mm for STEP and IGES) to which the
+        /// geometry's faces meet along their common edges, when it is more than the file
+        /// states: boundary nodes there are then required to lie within it of each face.
+        /// For files that understate their gaps (OpenCASCADE's IGES writer states a fixed
+        /// resolution whatever the shape's tolerance), which are otherwise refused.
+        #[arg(long, requires = "geometry")]
+        geometry_gap: Option<f64>,
         #[command(flatten)]
         method: MethodArgs,
         #[command(flatten)]
@@ -283,6 +290,7 @@ fn run(cli: Cli) -> Result<()> {
             straight,
             geometry,
             geometry_tolerance,
+            geometry_gap,
             method,
             output,
             verbosity,
@@ -295,7 +303,15 @@ fn run(cli: Cli) -> Result<()> {
             };
             let outputs = output.outputs(out);
             outputs.check()?;
-            let inputs = Inputs::read(&mesh, geometry.as_deref())?;
+            let mut inputs = Inputs::read(&mesh, geometry.as_deref())?;
+            if let Some(gap) = geometry_gap {
+                if !(gap.is_finite() && gap > 0.0) {
+                    bail!("--geometry-gap {gap}: give a positive distance");
+                }
+                if let Some((model, _)) = inputs.geometry.as_mut() {
+                    model.widen_uncertainty(gap);
+                }
+            }
             let mut options = method.options(order as usize, output.allow_invalid)?;
             options.curve.geometry_tolerance = geometry_tolerance;
             if !verbosity.quiet {

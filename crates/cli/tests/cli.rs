@@ -627,3 +627,55 @@ fn output_formats_are_chosen_by_options_and_misplaced_ones_refused() {
         assert!(!dir.path().join(file).exists());
     }
 }
+
+/// A STEP file that understates its faces' gap (sphere_on_block's fillet meets the sphere
+/// to 2e-6; the file edited to state 1e-7) is refused with exit 1, nothing written, the
+/// message naming the `--geometry-gap` that would do; given it, the run succeeds and its
+/// report states that gap. A gap that is not a positive number is refused before any work.
+#[test]
+fn an_understated_gap_is_refused_naming_the_geometry_gap_that_would_do() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(root.join("fixtures/cad/sphere_on_block.step")).unwrap();
+    let strict = text.replace("LENGTH_MEASURE(5.E-06)", "LENGTH_MEASURE(1.E-07)");
+    assert_ne!(strict, text);
+    std::fs::write(dir.path().join("strict.step"), strict).unwrap();
+    let mesh = root
+        .join("fixtures/cad/sphere_on_block.msh")
+        .display()
+        .to_string();
+    let base = ["curve", &mesh, "-p", "2", "--geometry", "strict.step"];
+    let with = |extra: &[&str]| {
+        let args: Vec<&str> = base.iter().chain(extra).copied().collect();
+        hocurve(&args, dir.path())
+    };
+    let refused = with(&["-o", "a.msh"]);
+    assert_eq!(refused.status.code(), Some(1), "{}", stderr(&refused));
+    let err = stderr(&refused);
+    let gap = err
+        .split("--geometry-gap ")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no gap named: {err}"))
+        .to_string();
+    assert!(!dir.path().join("a.msh").exists());
+    let curved = with(&["-o", "b.msh", "--report", "b.json", "--geometry-gap", &gap]);
+    assert!(curved.status.success(), "{}", stderr(&curved));
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("b.json")).unwrap()).unwrap();
+    let stated: f64 = gap.parse().unwrap();
+    let uncertainty = report
+        .pointer("/geometry_uncertainty")
+        .and_then(|u| u.as_f64());
+    assert_eq!(uncertainty, Some(stated), "{report}");
+    for bad in ["0", "-1e-3", "nan"] {
+        let out = with(&["-o", "c.msh", &format!("--geometry-gap={bad}")]);
+        assert_eq!(out.status.code(), Some(1), "{bad}");
+        assert!(
+            stderr(&out).contains("--geometry-gap"),
+            "{bad}: {}",
+            stderr(&out)
+        );
+        assert!(!dir.path().join("c.msh").exists());
+    }
+}

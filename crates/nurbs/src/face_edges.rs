@@ -17,10 +17,10 @@ pub(crate) type FaceBoundaries = Vec<(usize, Vec<(String, NurbsCurve)>)>;
 
 /// One face's copy of an edge: the face (entity index), where it came from, its curve and
 /// its end points.
-struct EdgeCopy {
+struct EdgeCopy<'a> {
     face: usize,
-    origin: String,
-    curve: NurbsCurve,
+    origin: &'a str,
+    curve: &'a NurbsCurve,
     ends: [[f64; 3]; 2],
 }
 
@@ -28,15 +28,15 @@ struct EdgeCopy {
 /// curves): copies with the same end points whose interior points lie on each other within
 /// `tolerance` are one edge; an edge is kept when it bounds two faces or more (a periodic
 /// face's seam bounds that face alone, twice). Faces ascending, the first copy's curve.
-pub(crate) fn edges_between_faces(faces: FaceBoundaries, tolerance: f64) -> Vec<ModelEdge> {
+pub(crate) fn edges_between_faces(faces: &FaceBoundaries, tolerance: f64) -> Vec<ModelEdge> {
     let mut copies: Vec<EdgeCopy> = faces
-        .into_iter()
+        .iter()
         .flat_map(|(face, curves)| {
-            curves.into_iter().map(move |(origin, curve)| {
+            curves.iter().map(move |(origin, curve)| {
                 let (t0, t1) = curve.domain();
                 let ends = [curve.point(t0), curve.point(t1)];
                 EdgeCopy {
-                    face,
+                    face: *face,
                     origin,
                     curve,
                     ends,
@@ -69,7 +69,7 @@ pub(crate) fn edges_between_faces(faces: FaceBoundaries, tolerance: f64) -> Vec<
             faces.dedup();
             let first = group.iter().copied().min_by_key(|&k| copies[k].face)?;
             (faces.len() >= 2).then(|| ModelEdge {
-                origin: copies[first].origin.clone(),
+                origin: copies[first].origin.to_string(),
                 curve: copies[first].curve.clone(),
                 faces,
             })
@@ -90,7 +90,7 @@ fn same_edge(a: &EdgeCopy, b: &EdgeCopy, tolerance: f64) -> bool {
         let (t0, t1) = p.curve.domain();
         [0.25, 0.5, 0.75].iter().all(|f| {
             let x = p.curve.point(t0 + (t1 - t0) * f);
-            closest_point_on_curve(&q.curve, x).distance <= tolerance
+            closest_point_on_curve(q.curve, x).distance <= tolerance
         })
     };
     ends && inside(a, b) && inside(b, a)

@@ -280,6 +280,10 @@ pub struct GeometryModel {
     size: ModelSize,
     /// [`Self::same_surface`] of every entity, computed on first use.
     surfaces: SurfaceGroups,
+    /// Each face's copies of its boundary curves, which [`Self::edges`] were matched from:
+    /// kept so that they can be matched again to a wider uncertainty
+    /// ([`Self::widen_uncertainty`]).
+    edge_copies: EdgeCopies,
 }
 
 /// The model's size once computed; models are equal whatever it holds.
@@ -302,6 +306,17 @@ impl PartialEq for SurfaceGroups {
     }
 }
 
+/// The faces' copies of their edges; models are equal whatever it holds (the edges
+/// matched from them are compared).
+#[derive(Debug, Clone, Default)]
+struct EdgeCopies(FaceBoundaries);
+
+impl PartialEq for EdgeCopies {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
 impl GeometryModel {
     /// A model of `entities` that meet to `uncertainty` (see the fields).
     pub fn new(entities: Vec<GeometricEntity>, uncertainty: Option<f64>) -> Self {
@@ -311,6 +326,7 @@ impl GeometryModel {
             uncertainty,
             size: ModelSize::default(),
             surfaces: SurfaceGroups::default(),
+            edge_copies: EdgeCopies::default(),
         }
     }
 
@@ -347,7 +363,26 @@ impl GeometryModel {
     /// other being one edge (see [`edges_between_faces`]).
     pub(crate) fn set_edges_between_faces(&mut self, faces: FaceBoundaries) {
         let tolerance = self.edge_copy_tolerance();
-        self.set_edges(edges_between_faces(faces, tolerance));
+        self.set_edges(edges_between_faces(&faces, tolerance));
+        self.edge_copies = EdgeCopies(faces);
+    }
+
+    /// Takes the model's faces to meet to `gap` where that is more than the file states
+    /// (writers often state a resolution finer than the model's real gaps between faces:
+    /// OpenCASCADE's IGES writer states a fixed one), and matches the faces' copies of
+    /// their edges again to it. Boundary nodes where faces meet are then held to lie
+    /// within `gap` of each, instead of the file's figure. Ignored when not positive and
+    /// finite.
+    pub fn widen_uncertainty(&mut self, gap: f64) {
+        if !(gap.is_finite() && gap > 0.0) || self.uncertainty.is_some_and(|u| u >= gap) {
+            return;
+        }
+        self.uncertainty = Some(gap);
+        if !self.edge_copies.0.is_empty() {
+            let tolerance = self.edge_copy_tolerance();
+            let edges = edges_between_faces(&self.edge_copies.0, tolerance);
+            self.set_edges(edges);
+        }
     }
 
     /// Sets the model's CAD edges, each widened to every face on the same surface as one it
