@@ -22,10 +22,11 @@ pub struct Uncertified {
 impl Uncertified {
     /// The elements of `curved` not certified valid; `linear` is the input it was curved
     /// from (its cell tags name the elements).
-    pub fn of(linear: &LinearMesh, curved: &CurvedMesh) -> Self {
+    pub fn of(input: &LinearMesh, curved: &CurvedMesh) -> Self {
         // Cells are those of the mesh that was curved (the input, or the input with split
-        // edges: the halves of a split cell keep its tag, appended ones get new tags).
-        let linear = curved.split_input.as_ref().unwrap_or(linear);
+        // edges: the halves of a split cell keep its tag, appended ones get new tags, which
+        // the input does not have: those are named with the input element they are part of).
+        let linear = curved.split_input.as_ref().unwrap_or(input);
         let quality = &curved.quality;
         let elements = crate::repair::not_certified(quality)
             .into_iter()
@@ -47,12 +48,20 @@ impl Uncertified {
                 } else {
                     ""
                 };
+                let name = match (c >= input.cells.len())
+                    .then(|| split_from(input, linear, c))
+                {
+                    None => format!("input element tag {}", linear.cell_tag(c)),
+                    Some(Some(parent)) => format!(
+                        "element tag {} (split from input element tag {})",
+                        linear.cell_tag(c),
+                        input.cell_tag(parent)
+                    ),
+                    Some(None) => format!("element tag {} (made by splitting)", linear.cell_tag(c)),
+                };
                 format!(
-                    "input element tag {} at ({:.4}, {:.4}, {:.4}){bound}{cause}",
-                    linear.cell_tag(c),
-                    centre[0],
-                    centre[1],
-                    centre[2]
+                    "{name} at ({:.4}, {:.4}, {:.4}){bound}{cause}",
+                    centre[0], centre[1], centre[2]
                 )
             })
             .collect();
@@ -95,6 +104,94 @@ impl std::fmt::Display for Uncertified {
                 ""
             }
         )
+    }
+}
+
+/// The input cell that cell `c` of `split` (the input with edges split, cells appended)
+/// was cut from: of the input cells sharing the most vertices with it (by node tag), the
+/// one its vertex centroid lies deepest inside (a half of a split tetrahedron shares a face
+/// with its parent and with the neighbour across that face; its centroid is inside the
+/// parent). None when it shares no vertex with any.
+fn split_from(input: &LinearMesh, split: &LinearMesh, c: usize) -> Option<usize> {
+    let cell = split.cells.get(c)?;
+    let tags: Vec<u64> = cell
+        .vertices
+        .iter()
+        .map(|&v| split.vertex_tag(v as usize))
+        .collect();
+    let centroid = |mesh: &LinearMesh, vertices: &[u32]| {
+        let mut x = [0.0; 3];
+        for &v in vertices {
+            for d in 0..3 {
+                x[d] += mesh.vertices[v as usize][d] / vertices.len() as f64;
+            }
+        }
+        x
+    };
+    let centre = centroid(split, &cell.vertices);
+    input
+        .cells
+        .iter()
+        .enumerate()
+        .filter_map(|(k, e)| {
+            let shared = e
+                .vertices
+                .iter()
+                .filter(|&&v| tags.contains(&input.vertex_tag(v as usize)))
+                .count();
+            (shared > 0).then(|| {
+                let corners: Vec<[f64; 3]> = e
+                    .vertices
+                    .iter()
+                    .map(|&v| input.vertices[v as usize])
+                    .collect();
+                let depth = simplex_depth(&corners, centre).unwrap_or_else(|| {
+                    // Not a simplex: nearer centroids are deeper.
+                    let y = centroid(input, &e.vertices);
+                    -(0..3)
+                        .map(|d| (y[d] - centre[d]).powi(2))
+                        .sum::<f64>()
+                        .sqrt()
+                });
+                (shared, depth, k)
+            })
+        })
+        .max_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)))
+        .map(|(_, _, k)| k)
+}
+
+/// The least barycentric coordinate of `x` in the triangle (in its plane, z ignored: 2D
+/// meshes lie in z = const) or tetrahedron `corners` (positive inside); None for other
+/// shapes or degenerate ones.
+fn simplex_depth(corners: &[[f64; 3]], x: [f64; 3]) -> Option<f64> {
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    match corners {
+        [a, b, c] => {
+            let (u, v, w) = (sub(*b, *a), sub(*c, *a), sub(x, *a));
+            let det = u[0] * v[1] - u[1] * v[0];
+            (det != 0.0).then(|| {
+                let l1 = (w[0] * v[1] - w[1] * v[0]) / det;
+                let l2 = (u[0] * w[1] - u[1] * w[0]) / det;
+                (1.0 - l1 - l2).min(l1).min(l2)
+            })
+        }
+        [a, b, c, d] => {
+            let m = [sub(*b, *a), sub(*c, *a), sub(*d, *a)];
+            let w = sub(x, *a);
+            let det3 = |p: [f64; 3], q: [f64; 3], r: [f64; 3]| {
+                p[0] * (q[1] * r[2] - q[2] * r[1]) - p[1] * (q[0] * r[2] - q[2] * r[0])
+                    + p[2] * (q[0] * r[1] - q[1] * r[0])
+            };
+            let det = det3(m[0], m[1], m[2]);
+            (det != 0.0).then(|| {
+                // Cramer's rule for x − a = Σ λ_i (corner_i − a).
+                let l1 = det3(w, m[1], m[2]) / det;
+                let l2 = det3(m[0], w, m[2]) / det;
+                let l3 = det3(m[0], m[1], w) / det;
+                (1.0 - l1 - l2 - l3).min(l1).min(l2).min(l3)
+            })
+        }
+        _ => None,
     }
 }
 
@@ -142,4 +239,55 @@ pub fn warnings(report: &CurveReport) -> Vec<String> {
             ""
         }
     )]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_mesh::{Element, Shape};
+
+    /// Two tetrahedra sharing the face 0 1 2 and two more on the upper one's other faces,
+    /// tagged like a file's: after the edge 0–1 is split, each appended half is named with
+    /// the input tetrahedron it was cut from, although it shares a face with a neighbour
+    /// of that one too.
+    #[test]
+    fn an_appended_half_is_named_by_the_input_cell_it_was_cut_from() {
+        let tet = |vertices: [u32; 4]| Element {
+            kind: Shape::Tet,
+            vertices: vertices.to_vec(),
+            entity: 1,
+        };
+        let input = LinearMesh {
+            dim: 3,
+            vertices: vec![
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 1.0, 0.0],
+                [0.0, 0.0, 1.0],
+                [0.0, 0.0, -1.0],
+                [-1.0, 0.2, 0.2],
+                [1.0, 1.0, 1.0],
+            ],
+            cells: vec![
+                tet([0, 1, 2, 3]),
+                tet([0, 2, 1, 4]),
+                tet([0, 2, 3, 5]),
+                tet([1, 2, 3, 6]),
+            ],
+            vertex_tags: vec![11, 12, 13, 14, 15, 16, 17],
+            cell_tags: vec![201, 202, 203, 204],
+            ..Default::default()
+        };
+        let (split, count) = input.split_edges(&[[0, 1]]);
+        assert_eq!((count, split.cells.len()), (1, 6));
+        for c in 4..6 {
+            let above = split.cells[c]
+                .vertices
+                .iter()
+                .any(|&v| split.vertices[v as usize][2] > 0.0);
+            let parent = split_from(&input, &split, c).unwrap();
+            assert_eq!(parent, if above { 0 } else { 1 }, "cell {c}");
+            assert!(split.cell_tag(c) > 204);
+        }
+    }
 }
