@@ -25,7 +25,7 @@ impl Uncertified {
     pub fn of(input: &LinearMesh, curved: &CurvedMesh) -> Self {
         // Cells are those of the mesh that was curved (the input, or the input with split
         // edges: the halves of a split cell keep its tag, appended ones get new tags, which
-        // the input does not have: those are named with the input element they are part of).
+        // the input does not have: those are named by the input element they are part of).
         let linear = curved.split_input.as_ref().unwrap_or(input);
         let quality = &curved.quality;
         let elements = crate::repair::not_certified(quality)
@@ -52,12 +52,13 @@ impl Uncertified {
                     .then(|| split_from(input, linear, c))
                 {
                     None => format!("input element tag {}", linear.cell_tag(c)),
+                    // Its own tag is in neither file (the written file numbers its
+                    // elements 1, 2, …): the input element it is part of is.
                     Some(Some(parent)) => format!(
-                        "element tag {} (split from input element tag {})",
-                        linear.cell_tag(c),
+                        "a part of input element tag {} (split)",
                         input.cell_tag(parent)
                     ),
-                    Some(None) => format!("element tag {} (made by splitting)", linear.cell_tag(c)),
+                    Some(None) => "an element made by splitting".to_string(),
                 };
                 format!(
                     "{name} at ({:.4}, {:.4}, {:.4}){bound}{cause}",
