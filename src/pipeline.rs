@@ -13,7 +13,7 @@
 //! 5. the quality is measured and certified (`certification`: Eq. (8) and Bézier bounds),
 //!    and elements not certified are repaired ([`crate::repair`]).
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::time::Instant;
 
 use hocurve_elastic::{ElasticError, Material, SolverOptions};
@@ -683,6 +683,12 @@ fn curve_mesh_once<'g>(
             .as_ref()
             .map(|t| t.entities.keys().copied().collect())
             .unwrap_or_default();
+        let in_planes = match (&attempt.targets, &association) {
+            (Some(targets), Some((geometry, _))) => {
+                crate::repair::nodes_in_planar_faces(geometry.model, &targets.entities)
+            }
+            _ => BTreeMap::new(),
+        };
         if !crate::repair::not_certified(&quality).is_empty() {
             progress(Progress::Step(Step::Repair));
         }
@@ -691,6 +697,7 @@ fn curve_mesh_once<'g>(
             &mut attempt.mesh,
             &attempt.straight,
             on_geometry.iter().copied(),
+            &in_planes,
             &attempt.sliding,
             &doubly_curved_cells,
             quality,

@@ -1,7 +1,8 @@
 //! Repair of the elements the certification did not find valid (beyond the paper, whose
 //! elastic analogy does not guarantee det J > 0): the nodes around them that lie on no
-//! boundary (or slide on a plane, within it) are untangled by a Jacobian-barrier
-//! optimisation ([`hocurve_untangle`]), the boundary nodes staying on the geometry, in
+//! boundary (or slide on a plane, within it, or lie inside a plane face of the geometry,
+//! within that) are untangled by a Jacobian-barrier optimisation ([`hocurve_untangle`]),
+//! the boundary nodes staying on the geometry, in
 //! patches that widen by one ring of cells per round (at most [`MAX_UNTANGLE_RINGS`]) until
 //! every element is certified. Then valid elements certified with a poor Ĩ are reshaped by
 //! the same optimisation ([`reshape_poor_elements`]).
@@ -101,17 +102,52 @@ pub fn jacobian_stiffening(straight: &HighOrderMesh) -> Vec<f64> {
         .collect()
 }
 
+/// A plane: a point of it and its unit normal.
+pub(crate) type Plane = ([f64; 3], [f64; 3]);
+
+/// The nodes placed on the geometry that lie on one planar entity only (a plane face, not
+/// where it meets another), with that plane (a point, the unit normal): the repair may
+/// move them within it and they stay on the geometry. A curved facet edge whose vertex's
+/// other facet edge runs along the curve's tangent there (a plane's mesh vertex on the
+/// tangent of a hole's rim at a rim vertex) closes that facet's corner to 0° once curved,
+/// whatever the free nodes do; bent within the plane, the straight edge opens it again.
+pub(crate) fn nodes_in_planar_faces(
+    model: &hocurve_nurbs::GeometryModel,
+    entities: &BTreeMap<u32, Vec<usize>>,
+) -> BTreeMap<u32, Plane> {
+    let mut planes: BTreeMap<usize, Option<Plane>> = BTreeMap::new();
+    entities
+        .iter()
+        .filter_map(|(&node, on)| {
+            let [entity] = on.as_slice() else {
+                return None;
+            };
+            let plane = *planes.entry(*entity).or_insert_with(|| {
+                match model.entities.get(*entity).map(|e| &e.geometry) {
+                    Some(hocurve_nurbs::EntityGeometry::Surface(s)) => s.plane(),
+                    _ => None,
+                }
+            });
+            plane.map(|p| (node, p))
+        })
+        .collect()
+}
+
 /// Untangles the patches around the elements of `mesh` that `quality` does not certify,
 /// widening them round by round, and returns the quality of the repaired mesh (measured by
 /// `assess`, which must certify). `straight` holds the straight-sided node positions (the
 /// shapes aimed at); `on_geometry` the nodes placed on the geometry, which stay where they
-/// are, like every other boundary node except the `sliding` ones, which move within their
-/// plane or line; `hopeless` the cells no node move can make
-/// valid (two faces on one curved entity meeting along an edge), which are not tried.
+/// are — but for those in `in_planes` (see [`nodes_in_planar_faces`]), which move within
+/// their plane and are put back onto it exactly after each round — like every other
+/// boundary node except the `sliding` ones, which move within their plane or line;
+/// `hopeless` the cells no node move can make valid (two faces on one curved entity
+/// meeting along an edge), which are not tried.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn untangle_not_certified(
     mesh: &mut HighOrderMesh,
     straight: &[[f64; 3]],
     on_geometry: impl IntoIterator<Item = u32>,
+    in_planes: &BTreeMap<u32, Plane>,
     sliding: &BTreeMap<u32, NodeConstraint>,
     hopeless: &[usize],
     mut quality: MeshQuality,
@@ -130,13 +166,29 @@ pub(crate) fn untangle_not_certified(
         return Ok((quality, done));
     }
     done.elements = bad.len();
-    let fixed = held_nodes(mesh, on_geometry, sliding)?;
+    let mut sliding = sliding.clone();
+    for (&node, &(_, normal)) in in_planes {
+        sliding.entry(node).or_insert(NodeConstraint::Plane(normal));
+    }
+    let on_geometry = on_geometry
+        .into_iter()
+        .filter(|n| !in_planes.contains_key(n));
+    let fixed = held_nodes(mesh, on_geometry, &sliding)?;
     for rings in 1..=MAX_UNTANGLE_RINGS {
         let options = UntangleOptions {
             rings,
             ..UntangleOptions::default()
         };
-        untangle_sliding(mesh, straight, &bad, &fixed, sliding, &options)?;
+        untangle_sliding(mesh, straight, &bad, &fixed, &sliding, &options)?;
+        // Moves along the plane leave a node off it by round-off: put back exactly.
+        for (&node, &(point, normal)) in in_planes {
+            if let Some(x) = mesh.nodes.get_mut(node as usize) {
+                let off: f64 = (0..3).map(|d| (x[d] - point[d]) * normal[d]).sum();
+                for d in 0..3 {
+                    x[d] -= off * normal[d];
+                }
+            }
+        }
         done.rounds = rings;
         quality = assess(mesh)?;
         bad = repairable(&quality);

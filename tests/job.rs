@@ -252,6 +252,35 @@ fn coarse_parts_with_faces_bounded_by_feature_curves_certify_at_p5() {
     }
 }
 
+/// A plate whose bottom face has a mesh vertex on a hole rim's tangent at a rim vertex
+/// (`tangent_vertex` in `fixtures/make_cad_fixtures.py`; as1-oc-214.stp, a CAx-IF part, has
+/// one beside a slot): the bottom facet through the rim vertex, the next one and that
+/// vertex closes its corner to 0° once its rim edge is curved, det J ≤ 0 there whatever the
+/// free nodes do. With the minimum-angle correction off, the repair must bend the straight
+/// edge within the plane: its nodes slide in their plane face (before: Ĩ ≥ −0.0006 at
+/// p = 3 after every repair, refused). They stay on the plane, every element certifies.
+#[test]
+fn a_facet_closed_by_a_vertex_on_a_rims_tangent_opens_within_its_plane() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = fixture_inputs("tangent_vertex", "step");
+    for order in [3, 4] {
+        let mut options = options(order);
+        options.curve.placement = options.curve.placement.with_min_angle(Some(0.0));
+        let outputs = mesh_only(dir.path().join(format!("p{order}.msh")));
+        let finished = curve_and_write(&inputs, &options, &outputs, &mut |_| {})
+            .unwrap_or_else(|e| panic!("p = {order}: {e}"));
+        assert!(finished.defects.is_empty(), "{:?}", finished.defects);
+        let r = &finished.curved.report;
+        assert_eq!(r.certified_valid_elements, Some(r.elements), "p = {order}");
+        assert!(r.untangle_rounds > 0, "p = {order}: nothing was untangled");
+        assert!(
+            r.max_geometry_distance < 1e-12,
+            "p = {order}: {:e}",
+            r.max_geometry_distance
+        );
+    }
+}
+
 /// A block with small rounded edges meshed by Gmsh's default sizing
 /// (`fixtures/make_cad_fixtures.py`): its quarter-round rims have two segments, and end faces
 /// get triangles through an arc's two ends and its middle. Such a facet has every vertex on

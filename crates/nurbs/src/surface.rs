@@ -125,6 +125,33 @@ impl NurbsSurface {
         vec3::bounding_box_diagonal(&self.control_points)
     }
 
+    /// The plane the surface lies in — a point of it and its unit normal — when every
+    /// control point is on it to 1e-12 of the surface's size (a NURBS surface lies in the
+    /// span of its control points, whatever the weights); None for a surface that bends.
+    pub fn plane(&self) -> Option<([f64; 3], [f64; 3])> {
+        let points = &self.control_points;
+        let origin = *points.first()?;
+        let size = self.size();
+        // The point farthest from the first, then the one farthest off that line.
+        let far = points
+            .iter()
+            .map(|&p| vec3::sub(p, origin))
+            .max_by(|a, b| vec3::norm(*a).total_cmp(&vec3::norm(*b)))?;
+        let normal = points
+            .iter()
+            .map(|&p| vec3::cross(far, vec3::sub(p, origin)))
+            .max_by(|a, b| vec3::norm(*a).total_cmp(&vec3::norm(*b)))?;
+        let length = vec3::norm(normal);
+        if !(length > 0.0 && size > 0.0) {
+            return None;
+        }
+        let normal = vec3::scale(normal, 1.0 / length);
+        points
+            .iter()
+            .all(|&p| vec3::dot(vec3::sub(p, origin), normal).abs() <= 1e-12 * size)
+            .then_some((origin, normal))
+    }
+
     /// Closedness, poles and size, for reuse across many evaluations.
     pub fn properties(&self) -> SurfaceProperties {
         SurfaceProperties {

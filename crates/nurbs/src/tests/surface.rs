@@ -101,3 +101,41 @@ fn net_size_is_checked() {
     assert!(!s.is_closed_u() && !s.is_closed_v());
     assert_eq!(s.degenerate_edges(), [false; 4]);
 }
+
+/// A flat rational patch (the curved patch's net flattened onto a tilted plane, weights
+/// kept) is in its plane: the normal found is the plane's to 1e-15 and every control point
+/// is on it; raising one control point by 1e-9 of the size, or a sphere, is not planar.
+#[test]
+fn a_flat_patch_has_its_plane_and_a_bent_one_none() {
+    let normal = {
+        let n = [0.3, -0.4, 1.2];
+        let l: f64 = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+        [n[0] / l.sqrt(), n[1] / l.sqrt(), n[2] / l.sqrt()]
+    };
+    let mut flat = patch();
+    for p in &mut flat.control_points {
+        // Onto the plane through (1, 2, 3) with that normal.
+        let off = (p[0] - 1.0) * normal[0] + (p[1] - 2.0) * normal[1] + (p[2] - 3.0) * normal[2];
+        for d in 0..3 {
+            p[d] -= off * normal[d];
+        }
+    }
+    let (point, found) = flat.plane().expect("a flat patch has a plane");
+    let along = found[0] * normal[0] + found[1] * normal[1] + found[2] * normal[2];
+    assert!((along.abs() - 1.0).abs() < 1e-15, "{found:?}");
+    let off =
+        (point[0] - 1.0) * normal[0] + (point[1] - 2.0) * normal[1] + (point[2] - 3.0) * normal[2];
+    assert!(off.abs() < 1e-13, "{off:e}");
+    let mut bumped = flat.clone();
+    let size = bumped.size();
+    let p = &mut bumped.control_points[5];
+    for d in 0..3 {
+        p[d] += 1e-9 * size * normal[d];
+    }
+    assert!(bumped.plane().is_none());
+    assert!(patch().plane().is_none());
+    assert!(crate::shapes::sphere([0.0; 3], 1.0)
+        .unwrap()
+        .plane()
+        .is_none());
+}
