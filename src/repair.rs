@@ -105,30 +105,44 @@ pub fn jacobian_stiffening(straight: &HighOrderMesh) -> Vec<f64> {
 /// A plane: a point of it and its unit normal.
 pub(crate) type Plane = ([f64; 3], [f64; 3]);
 
-/// The nodes placed on the geometry that lie on one planar entity only (a plane face, not
-/// where it meets another), with that plane (a point, the unit normal): the repair may
-/// move them within it and they stay on the geometry. A curved facet edge whose vertex's
-/// other facet edge runs along the curve's tangent there (a plane's mesh vertex on the
-/// tangent of a hole's rim at a rim vertex) closes that facet's corner to 0° once curved,
-/// whatever the free nodes do; bent within the plane, the straight edge opens it again.
+/// The nodes placed on the geometry whose entities are all one plane (a plane face, or
+/// coplanar faces of an assembly's parts, not where a plane meets another surface), with
+/// that plane (a point, the unit normal): the repair may move them within it and they stay
+/// on the geometry. A curved facet edge whose vertex's other facet edge runs along the
+/// curve's tangent there (a plane's mesh vertex on the tangent of a hole's rim at a rim
+/// vertex) closes that facet's corner to 0° once curved, whatever the free nodes do; bent
+/// within the plane, the straight edge opens it again.
 pub(crate) fn nodes_in_planar_faces(
     model: &hocurve_nurbs::GeometryModel,
     entities: &BTreeMap<u32, Vec<usize>>,
 ) -> BTreeMap<u32, Plane> {
     let mut planes: BTreeMap<usize, Option<Plane>> = BTreeMap::new();
+    let mut plane_of = |entity: usize| {
+        *planes.entry(entity).or_insert_with(|| {
+            match model.entities.get(entity).map(|e| &e.geometry) {
+                Some(hocurve_nurbs::EntityGeometry::Surface(s)) => s.plane(),
+                _ => None,
+            }
+        })
+    };
+    // Coplanar: normals parallel, and each plane through the other's point, to round-off.
+    let reach = 1e-9 * model.size();
+    let coplanar = |(p, n): Plane, (q, m): Plane| {
+        let dot = |a: [f64; 3], b: [f64; 3]| a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+        let offset = [q[0] - p[0], q[1] - p[1], q[2] - p[2]];
+        dot(n, m).abs() >= 1.0 - 1e-12 && dot(offset, n).abs() <= reach
+    };
     entities
         .iter()
         .filter_map(|(&node, on)| {
-            let [entity] = on.as_slice() else {
-                return None;
-            };
-            let plane = *planes.entry(*entity).or_insert_with(|| {
-                match model.entities.get(*entity).map(|e| &e.geometry) {
-                    Some(hocurve_nurbs::EntityGeometry::Surface(s)) => s.plane(),
-                    _ => None,
+            let (&first, rest) = on.split_first()?;
+            let plane = plane_of(first)?;
+            for &other in rest {
+                if !coplanar(plane, plane_of(other)?) {
+                    return None;
                 }
-            });
-            plane.map(|p| (node, p))
+            }
+            Some((node, plane))
         })
         .collect()
 }
@@ -322,4 +336,50 @@ pub(crate) fn reshape_poor_elements(
         }
     }
     Ok((quality, done))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hocurve_nurbs::shapes::{bilinear_patch, sphere};
+    use hocurve_nurbs::{EntityGeometry, GeometricEntity, GeometryModel};
+
+    /// Nodes on one plane, or on two coplanar faces (an assembly's parts touching), slide
+    /// in that plane; nodes where a plane meets a parallel one 1e-6 away, or a sphere, or
+    /// on the sphere alone, do not.
+    #[test]
+    fn nodes_slide_where_all_their_entities_are_one_plane() {
+        let square = |x0: f64, z: f64| {
+            let surface = bilinear_patch([
+                [[x0, 0.0, z], [x0, 1.0, z]],
+                [[x0 + 1.0, 0.0, z], [x0 + 1.0, 1.0, z]],
+            ])
+            .unwrap();
+            GeometricEntity::new("square", "test", EntityGeometry::Surface(surface))
+        };
+        let ball = GeometricEntity::new(
+            "ball",
+            "test",
+            EntityGeometry::Surface(sphere([0.5, 0.5, 2.0], 0.5).unwrap()),
+        );
+        let model = GeometryModel::new(
+            vec![square(0.0, 0.0), square(1.0, 0.0), square(2.0, 1e-6), ball],
+            None,
+        );
+        let entities: BTreeMap<u32, Vec<usize>> = [
+            (0, vec![0]),
+            (1, vec![0, 1]),
+            (2, vec![1, 2]),
+            (3, vec![0, 3]),
+            (4, vec![3]),
+        ]
+        .into_iter()
+        .collect();
+        let sliding = nodes_in_planar_faces(&model, &entities);
+        assert_eq!(sliding.keys().copied().collect::<Vec<_>>(), [0, 1]);
+        for (_, (point, normal)) in sliding {
+            assert!(point[2].abs() < 1e-15);
+            assert!((normal[2].abs() - 1.0).abs() < 1e-15, "{normal:?}");
+        }
+    }
 }
