@@ -29,15 +29,21 @@ pub(crate) fn active_corrections(
         })
 }
 
-/// What a correction has to lift the scaled-Jacobian bound of the worst element it touches
-/// by to be kept: less is the round-off of the bounds and of the geometry (one model from
-/// STEP and from IGES differs by ~1e-9), and a choice made by round-off differs between
-/// two descriptions of one model. (Undoing them all when the mesh's least bound is lower
-/// with them stays strict: corrections never leave the mesh certified worse.)
-pub(crate) const CORRECTION_GAIN: f64 = 1e-6;
+/// What a certified scaled-Jacobian bound has to rise by for one curving to count as
+/// better than another (a correction kept, a stiffened solve, a refinement or a reshaping
+/// taken): less is the round-off of the bounds and of the geometry (one model from STEP
+/// and from IGES differs by ~1e-9), and a choice made by round-off differs between two
+/// descriptions of one model: two curvings whose worst element is the same, untouched
+/// cell measure it 1e-12 apart, either way round.
+pub(crate) const SIGNIFICANT_GAIN: f64 = 1e-6;
+
+/// Whether the bound `a` is better than `b` by more than [`SIGNIFICANT_GAIN`].
+pub(crate) fn significantly_better(a: f64, b: f64) -> bool {
+    a > b + SIGNIFICANT_GAIN
+}
 
 /// The `corrected` edges of `mesh` whose worst cell is not better certified with the
-/// corrections than without any, by more than [`CORRECTION_GAIN`] (scaled-Jacobian bounds
+/// corrections than without any, by more than [`SIGNIFICANT_GAIN`] (scaled-Jacobian bounds
 /// per cell `with` and `without`): a correction has to lift the worst element it touches.
 /// (Judged per cell instead, a correction that turns an inverted element valid would go
 /// for a 0.01 loss on a good neighbour.)
@@ -63,7 +69,7 @@ pub(crate) fn corrections_not_helping(
     }
     worst
         .into_iter()
-        .filter(|(_, (with, without))| *with <= without + CORRECTION_GAIN)
+        .filter(|(_, (with, without))| !significantly_better(*with, *without))
         .map(|(key, _)| key)
         .collect()
 }
@@ -123,13 +129,13 @@ mod tests {
         // without: the shared edge goes.
         assert_eq!(losers([0.6, 0.05], [0.1, 0.4]), BTreeSet::from([[0, 1]]));
         // Better by round-off only (as one model read from STEP and from IGES differs):
-        // not better; by more than [`CORRECTION_GAIN`]: better.
-        let tiny = 0.2 * CORRECTION_GAIN;
+        // not better; by more than [`SIGNIFICANT_GAIN`]: better.
+        let tiny = 0.2 * SIGNIFICANT_GAIN;
         assert_eq!(
             losers([0.5, 0.3 + tiny], [0.4, 0.3]),
             BTreeSet::from([[0, 1]])
         );
-        assert!(losers([0.5, 0.3 + 5.0 * CORRECTION_GAIN], [0.4, 0.3]).is_empty());
+        assert!(losers([0.5, 0.3 + 5.0 * SIGNIFICANT_GAIN], [0.4, 0.3]).is_empty());
         // Degenerate (NaN) bounds count as the worst.
         let mut q = assess(&mesh, &QualityOptions::default()).unwrap();
         q.scaled_jacobian[1] = f64::NAN;

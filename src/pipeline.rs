@@ -34,7 +34,7 @@ pub use crate::report::{CurveReport, StepTimings};
 use crate::attempt::{curve_and_certify, Boundary};
 use crate::certification::assess_certified;
 use crate::correction_choice::{
-    active_corrections, certified_scaled_jacobians, corrections_not_helping,
+    active_corrections, certified_scaled_jacobians, corrections_not_helping, significantly_better,
 };
 use crate::precurving::{
     cells_with_doubly_curved_edges, edges_opposite_doubly_curved_corners,
@@ -295,7 +295,7 @@ fn refine_and_curve<'g>(
         let minimum = certified_scaled_jacobians(q)
             .into_iter()
             .fold(f64::INFINITY, f64::min);
-        (crate::repair::not_certified(q).len(), -minimum)
+        (crate::repair::not_certified(q).len(), minimum)
     };
     let mut curved = match curve_mesh_once(
         linear,
@@ -356,7 +356,7 @@ fn refine_and_curve<'g>(
         };
         let mut again = *again;
         let (now, before) = (score(&again.quality), score(&curved.quality));
-        if now.0 > before.0 || (now.0 == before.0 && now.1 >= before.1) {
+        if now.0 > before.0 || (now.0 == before.0 && !significantly_better(now.1, before.1)) {
             break;
         }
         let before = &curved.report;
@@ -606,8 +606,11 @@ fn curve_mesh_once<'g>(
                 .into_iter()
                 .fold(f64::INFINITY, f64::min)
         };
-        // (Strictly: with corrections the mesh is never certified worse than without.)
-        if losers.len() == corrected.len() || minimum(&quality) < minimum(&without_quality) {
+        // (With corrections the mesh is never certified worse than without, beyond
+        // round-off: the same worst cell, away from them, measured twice.)
+        if losers.len() == corrected.len()
+            || significantly_better(minimum(&without_quality), minimum(&quality))
+        {
             (attempt, quality) = (without, without_quality);
             undone_corrections = corrected.len();
         }
@@ -649,7 +652,8 @@ fn curve_mesh_once<'g>(
                     .fold(f64::INFINITY, f64::min)
             };
             let better = stiff_bad < bad
-                || (stiff_bad == bad && minimum(&stiff_quality) > minimum(&quality));
+                || (stiff_bad == bad
+                    && significantly_better(minimum(&stiff_quality), minimum(&quality)));
             if better {
                 (attempt, quality) = (stiff, stiff_quality);
             }

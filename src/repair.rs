@@ -323,7 +323,9 @@ pub(crate) fn reshape_poor_elements(
         untangle_sliding(mesh, straight, &cells, &fixed, sliding, &options)?;
         let reshaped = assess(mesh)?;
         let minimum = certified_minimum(&reshaped);
-        if !not_certified(&reshaped).is_empty() || minimum <= done.min_after {
+        if !not_certified(&reshaped).is_empty()
+            || !crate::correction_choice::significantly_better(minimum, done.min_after)
+        {
             mesh.nodes = before;
             break;
         }

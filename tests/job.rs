@@ -175,13 +175,66 @@ fn step_and_iges_give_the_same_curved_mesh() {
     assert!(gap < 1e-9, "{gap:e}");
 }
 
+/// Every part curved with the default options from its STEP and from its IGES export (both
+/// OpenCASCADE's) gives the same mesh, interior nodes included, to 1e-9 of the model (issue
+/// 22): the repair converges its patches' energy by Newton's method rather than stopping
+/// where its iterations happen to, and choices between two curvings (a correction kept, a
+/// refinement, a reshaping) go by more than round-off. Before, 2e-3 apart (filleted_boss:
+/// an untangled patch), 4e-4 (rounded_block), 1e-4 (wing_body: the whole mesh's worst cell,
+/// away from the corrections, measured 1e-12 apart with and without them, decided whether
+/// they stayed). cone_plate's files put its cone 1e-9 apart: 1e-8 there. (sphere_on_block's
+/// two files state different tolerances: not the same model to the reader.)
+#[test]
+fn step_and_iges_curve_every_part_to_the_same_mesh() {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, order) in [
+        ("filleted_boss", 3),
+        ("rounded_block", 3),
+        ("tee_pipes", 4),
+        ("wing_body", 3),
+        ("cone_plate", 2),
+        ("tangent_vertex", 3),
+    ] {
+        let mut nodes = Vec::new();
+        for ext in ["step", "igs"] {
+            let outputs = mesh_only(dir.path().join(format!("{name}_{ext}.msh")));
+            let finished = curve_and_write(
+                &fixture_inputs(name, ext),
+                &options(order),
+                &outputs,
+                &mut |_| {},
+            )
+            .unwrap_or_else(|e| panic!("{name}.{ext}: {e}"));
+            assert!(
+                finished.defects.is_empty(),
+                "{name}.{ext}: {:?}",
+                finished.defects
+            );
+            nodes.push(finished.curved.mesh.nodes);
+        }
+        assert_eq!(nodes[0].len(), nodes[1].len(), "{name}");
+        let size = nodes[0]
+            .iter()
+            .map(|x| x[0].abs().max(x[1].abs()).max(x[2].abs()))
+            .fold(0.0, f64::max);
+        let gap = nodes[0]
+            .iter()
+            .zip(&nodes[1])
+            .flat_map(|(a, b)| (0..3).map(move |d| (a[d] - b[d]).abs()))
+            .fold(0.0, f64::max);
+        println!("{name} p = {order}: STEP and IGES meshes {gap:.1e} apart (model {size:.1})");
+        let files_agree_to = if name == "cone_plate" { 1e-8 } else { 1e-9 };
+        assert!(gap < files_agree_to * size, "{name}: {gap:e}");
+    }
+}
+
 /// The boundary nodes placed from a model's STEP and from its IGES export (both
 /// OpenCASCADE's) agree to the files' own agreement: the same faces (IGES tori, spheres and
 /// cones recognised on any part of their circle; STEP tori as the band a face covers),
 /// the same CAD edges (IGES has them as each face's boundary copies), the same
 /// corrections, the same paths along a patch's edge at either end of its range. cone_plate's cone is written 1e-9 apart by the two files (its apex at
 /// z = 2.05 in STEP, 2.050000001 from IGES's generatrix), hence 1e-8 of the model. (The
-/// elastic solve and the reshaping then stop at their own tolerances, ~1e-5 of the model.)
+/// whole curving: [`step_and_iges_curve_every_part_to_the_same_mesh`].)
 #[test]
 fn step_and_iges_place_the_same_boundary_nodes() {
     let dir = tempfile::tempdir().unwrap();

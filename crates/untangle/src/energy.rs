@@ -54,6 +54,79 @@ pub fn inverse_mean_ratio(t: &Mat, dim: usize, delta: f64) -> Option<(f64, Mat)>
     Some((value, grad))
 }
 
+/// Second derivatives of f(T) with respect to the entries of T, indexed 3r + c.
+pub(crate) type Mat9 = [[f64; 9]; 9];
+
+/// [`inverse_mean_ratio`] with its second derivative (for Newton steps). With F = |T|²,
+/// τ = det T, s = √(τ² + 4δ²), φ = h^{−2/d}, C = cof T (so f = F φ / d):
+///
+/// φ' = −(2/d) φ / s,  φ'' = (2/d)² φ / s² + (2/d) φ τ / s³,
+///
+/// d · ∂²f/∂T_α∂T_β = 2φ δ_αβ + 2φ' (T_α C_β + C_α T_β) + F φ'' C_α C_β + F φ' ∂C_α/∂T_β.
+pub(crate) fn inverse_mean_ratio_second(
+    t: &Mat,
+    dim: usize,
+    delta: f64,
+) -> Option<(f64, Mat, Mat9)> {
+    let (value, grad) = inverse_mean_ratio(t, dim, delta)?;
+    let tau = det(t, dim);
+    let s = (tau * tau + 4.0 * delta * delta).sqrt();
+    let n = dim as f64;
+    let mut fro = 0.0;
+    for r in 0..dim {
+        for c in 0..dim {
+            fro += t[r][c] * t[r][c];
+        }
+    }
+    // φ = f · d / F (F > 0 wherever the barrier is finite and T ≠ 0).
+    let phi = value * n / fro;
+    let d1 = -(2.0 / n) * phi / s;
+    let d2 = (2.0 / n) * (2.0 / n) * phi / (s * s) + (2.0 / n) * phi * tau / (s * s * s);
+    let cof = cofactor(t, dim);
+    let cof_second = cofactor_derivative(t, dim);
+    let mut hess = [[0.0; 9]; 9];
+    for a in 0..dim * dim {
+        let (ar, ac) = (a / dim, a % dim);
+        for b in 0..dim * dim {
+            let (br, bc) = (b / dim, b % dim);
+            let mut v = 2.0 * d1 * (t[ar][ac] * cof[br][bc] + cof[ar][ac] * t[br][bc])
+                + fro * d2 * cof[ar][ac] * cof[br][bc]
+                + fro * d1 * cof_second[3 * ar + ac][3 * br + bc];
+            if a == b {
+                v += 2.0 * phi;
+            }
+            hess[3 * ar + ac][3 * br + bc] = v / n;
+        }
+    }
+    Some((value, grad, hess))
+}
+
+/// ∂(cof T)_α / ∂T_β, indexed 3r + c (the second derivative of det T).
+fn cofactor_derivative(t: &Mat, dim: usize) -> Mat9 {
+    let mut out = [[0.0; 9]; 9];
+    if dim == 2 {
+        // cof T = [[T11, −T10], [−T01, T00]].
+        out[0][4] = 1.0;
+        out[1][3] = -1.0;
+        out[3][1] = -1.0;
+        out[4][0] = 1.0;
+        return out;
+    }
+    for r in 0..3 {
+        for k in 0..3 {
+            let (r1, r2) = ((r + 1) % 3, (r + 2) % 3);
+            let (k1, k2) = ((k + 1) % 3, (k + 2) % 3);
+            // C[r][k] = T[r1][k1] T[r2][k2] − T[r1][k2] T[r2][k1].
+            let row = &mut out[3 * r + k];
+            row[3 * r1 + k1] += t[r2][k2];
+            row[3 * r2 + k2] += t[r1][k1];
+            row[3 * r1 + k2] -= t[r2][k1];
+            row[3 * r2 + k1] -= t[r1][k2];
+        }
+    }
+    out
+}
+
 /// det of the leading dim×dim block.
 pub(crate) fn det(m: &Mat, dim: usize) -> f64 {
     if dim == 2 {
@@ -249,6 +322,142 @@ impl DistortionEnergy<'_> {
             }
         }
         (energy, min_ratio)
+    }
+}
+
+/// One cell's share of the energy's second derivative, for its free nodes only.
+#[derive(Debug, Clone, Default)]
+pub(crate) struct CellHessian {
+    /// The free variables of the cell's nodes, in local order (a node listed once).
+    pub variables: Vec<u32>,
+    /// Its local node index for each of them.
+    local: Vec<usize>,
+    /// ∂E_cell/∂x of each variable.
+    pub gradient: Vec<[f64; 3]>,
+    /// ∂²E_cell/∂x_k∂x_l as blocks[k · n + l] (n = variables.len()), each [d][e].
+    pub blocks: Vec<Mat>,
+    /// The cell's energy and smallest det T.
+    pub energy: f64,
+    pub min_ratio: f64,
+}
+
+impl DistortionEnergy<'_> {
+    /// The energy's gradient and Hessian of the cells in `range`, in their order (`delta`
+    /// as in [`DistortionEnergy::evaluate`]). A cell whose energy is not finite has energy
+    /// +∞.
+    pub(crate) fn cell_hessians(
+        &self,
+        range: std::ops::Range<usize>,
+        x: &[[f64; 3]],
+        delta: f64,
+    ) -> Vec<CellHessian> {
+        self.cells[range]
+            .par_iter()
+            .map_init(
+                || (Vec::new(), Vec::new()),
+                |(coords, a), cell| match self.dim {
+                    2 => self.cell_hessian::<2>(cell, x, delta, coords, a),
+                    _ => self.cell_hessian::<3>(cell, x, delta, coords, a),
+                },
+            )
+            .collect()
+    }
+
+    /// With T = J W⁻¹ and J = Σ_i x_i ⊗ ∇Φ_i: ∂T[d][m]/∂x_i[d] = a_i[m], a_i = W⁻ᵀ ∇Φ_i, so
+    /// ∂²f/∂x_k[d]∂x_l[e] = Σ_{m,n} ∂²f/∂T[d][m]∂T[e][n] a_k[m] a_l[n].
+    fn cell_hessian<const D: usize>(
+        &self,
+        cell: &CellTerm,
+        x: &[[f64; 3]],
+        delta: f64,
+        coords: &mut Vec<[f64; 3]>,
+        a: &mut Vec<[f64; 3]>,
+    ) -> CellHessian {
+        let sampler = &self.samplers[cell.sampler];
+        let mut out = CellHessian::default();
+        coords.clear();
+        for (i, s) in cell.nodes.iter().enumerate() {
+            match *s {
+                Slot::Free(v) => {
+                    coords.push(x[v as usize]);
+                    if !out.variables.contains(&v) {
+                        out.variables.push(v);
+                        out.local.push(i);
+                    }
+                }
+                Slot::Fixed(p) => coords.push(p),
+            }
+        }
+        let n = out.variables.len();
+        out.gradient = vec![[0.0; 3]; n];
+        out.blocks = vec![[[0.0; 3]; 3]; n * n];
+        out.min_ratio = f64::INFINITY;
+        for (q, w_inv) in cell.ideal_inverse.iter().enumerate() {
+            let Some(w_inv) = w_inv else { continue };
+            let gradients = sampler.point_gradients(q);
+            let mut j = [[0.0; 3]; 3];
+            for (xi, g) in coords.iter().zip(gradients) {
+                for d in 0..D {
+                    for k in 0..D {
+                        j[d][k] += xi[d] * g[k];
+                    }
+                }
+            }
+            let t = mul(&j, w_inv, D);
+            out.min_ratio = out.min_ratio.min(det(&t, D));
+            let Some((f, df_dt, h)) = inverse_mean_ratio_second(&t, D, delta) else {
+                out.energy = f64::INFINITY;
+                continue;
+            };
+            out.energy += f;
+            a.clear();
+            for &i in &out.local {
+                let g = gradients[i];
+                let mut ai = [0.0; 3];
+                for (m, am) in ai.iter_mut().enumerate().take(D) {
+                    *am = (0..D).map(|k| w_inv[k][m] * g[k]).sum();
+                }
+                a.push(ai);
+            }
+            for k in 0..n {
+                let ak = a[k];
+                for d in 0..D {
+                    out.gradient[k][d] += (0..D).map(|m| df_dt[d][m] * ak[m]).sum::<f64>();
+                }
+                // y[3e + m'][d] = Σ_m H[(d, m)][(e, m')] a_k[m].
+                let mut y = [[0.0; 3]; 9];
+                for e in 0..D {
+                    for mp in 0..D {
+                        for d in 0..D {
+                            y[3 * e + mp][d] =
+                                (0..D).map(|m| h[3 * d + m][3 * e + mp] * ak[m]).sum();
+                        }
+                    }
+                }
+                for l in k..n {
+                    let al = a[l];
+                    let block = &mut out.blocks[k * n + l];
+                    for d in 0..D {
+                        for e in 0..D {
+                            block[d][e] += (0..D).map(|mp| y[3 * e + mp][d] * al[mp]).sum::<f64>();
+                        }
+                    }
+                }
+            }
+        }
+        // The lower blocks mirror the upper ones: H_lk = H_klᵀ.
+        for k in 0..n {
+            for l in 0..k {
+                let upper = out.blocks[l * n + k];
+                let block = &mut out.blocks[k * n + l];
+                for d in 0..3 {
+                    for e in 0..3 {
+                        block[d][e] = upper[e][d];
+                    }
+                }
+            }
+        }
+        out
     }
 }
 

@@ -1,5 +1,6 @@
 //! Minimisation of a patch's distortion energy: nonlinear conjugate gradients
-//! (Polak–Ribière⁺) with Armijo backtracking, in rounds of fixed regularisation δ.
+//! (Polak–Ribière⁺) with Armijo backtracking, in rounds of fixed regularisation δ, then
+//! Newton's method ([`crate::newton`]) once the patch is untangled.
 
 use crate::energy::DistortionEnergy;
 use crate::NodeConstraint;
@@ -128,6 +129,11 @@ pub(crate) fn minimise(
                 break;
             }
         }
+    }
+    // Where every det T is positive, Newton's method converges to the minimum itself
+    // (the iterations above stop at a point that depends on their path).
+    if energy.evaluate(x, 0.0, None).energy.is_finite() {
+        iterations += crate::newton::converge(energy, x, length, constraints);
     }
     Outcome {
         min_ratio: energy.evaluate(x, 0.0, None).min_ratio,

@@ -45,7 +45,7 @@ pub struct UntangleReport {
     /// (W: the straight-sided Jacobian; > 0 at every sample point is necessary, not
     /// sufficient, for validity: certify afterwards). +∞ when there was nothing to move.
     pub min_ratio: f64,
-    /// Conjugate-gradient iterations, summed over the patches.
+    /// Conjugate-gradient and Newton iterations, summed over the patches.
     pub iterations: usize,
 }
 
@@ -141,7 +141,7 @@ pub fn untangle_sliding(
 type PatchResult = (Vec<u32>, Vec<[f64; 3]>, f64, usize);
 
 /// `elements` and `rings` layers of cells sharing a vertex with them, as a mask.
-fn patch_cells(mesh: &HighOrderMesh, elements: &[usize], rings: usize) -> Vec<bool> {
+pub(crate) fn patch_cells(mesh: &HighOrderMesh, elements: &[usize], rings: usize) -> Vec<bool> {
     let vertices = mesh.layout().num_vertices();
     let mut vertex_cells: Vec<Vec<u32>> = vec![Vec::new(); vertices];
     if rings > 0 {
@@ -177,7 +177,7 @@ fn patch_cells(mesh: &HighOrderMesh, elements: &[usize], rings: usize) -> Vec<bo
 }
 
 /// Per node: free to move (not fixed, and every cell using it is in the patch).
-fn free_nodes(mesh: &HighOrderMesh, in_patch: &[bool], fixed: &[u32]) -> Vec<bool> {
+pub(crate) fn free_nodes(mesh: &HighOrderMesh, in_patch: &[bool], fixed: &[u32]) -> Vec<bool> {
     let mut outside = vec![false; mesh.nodes.len()];
     let mut inside = vec![false; mesh.nodes.len()];
     for (cell, &p) in mesh.cells.iter().zip(in_patch) {
@@ -200,7 +200,11 @@ fn free_nodes(mesh: &HighOrderMesh, in_patch: &[bool], fixed: &[u32]) -> Vec<boo
 
 /// The cells with a free node, grouped into sets that share free nodes (each sorted, the
 /// sets ordered by their first cell).
-fn components(mesh: &HighOrderMesh, in_patch: &[bool], free: &[bool]) -> Vec<Vec<usize>> {
+pub(crate) fn components(
+    mesh: &HighOrderMesh,
+    in_patch: &[bool],
+    free: &[bool],
+) -> Vec<Vec<usize>> {
     let cells: Vec<usize> = (0..mesh.cells.len())
         .filter(|&c| in_patch[c] && mesh.cells[c].nodes.iter().any(|&n| free[n as usize]))
         .collect();
@@ -241,7 +245,7 @@ fn components(mesh: &HighOrderMesh, in_patch: &[bool], free: &[bool]) -> Vec<Vec
 /// det J (the points whose values fix the polynomial det J, vertices and edges included,
 /// where inversions start), or, where that lattice is too large, at the degree-2p
 /// quadrature points and the nodes.
-fn samplers(
+pub(crate) fn samplers(
     mesh: &HighOrderMesh,
     components: &[Vec<usize>],
 ) -> Result<Vec<JacobianSampler>, UntangleError> {
@@ -268,7 +272,7 @@ fn samplers(
 }
 
 /// The energy of one set of cells, its free nodes (sorted) and a typical edge length.
-fn patch_energy<'a>(
+pub(crate) fn patch_energy<'a>(
     mesh: &HighOrderMesh,
     straight: &[[f64; 3]],
     cells: &[usize],

@@ -90,3 +90,47 @@ fn the_derivative_matches_central_differences() {
         }
     }
 }
+
+#[test]
+fn the_second_derivative_matches_central_differences_of_the_first() {
+    use crate::energy::inverse_mean_ratio_second;
+    let cases: [(Mat, usize, f64); 4] = [
+        (
+            [[1.2, 0.3, -0.1], [0.2, 0.9, 0.4], [-0.3, 0.1, 1.1]],
+            3,
+            0.0,
+        ),
+        (
+            [[1.2, 0.3, -0.1], [0.2, -0.9, 0.4], [-0.3, 0.1, 1.1]],
+            3,
+            0.05,
+        ),
+        ([[0.7, 0.2, 0.0], [-0.4, 1.3, 0.0], [0.0; 3]], 2, 0.0),
+        ([[0.7, 0.2, 0.0], [0.4, -1.3, 0.0], [0.0; 3]], 2, 0.1),
+    ];
+    for (t, dim, delta) in cases {
+        let (f, grad, hess) = inverse_mean_ratio_second(&t, dim, delta).expect("finite");
+        let (f1, grad1) = inverse_mean_ratio(&t, dim, delta).expect("finite");
+        assert_eq!((f, grad), (f1, grad1));
+        let h = 1e-6;
+        for r in 0..dim {
+            for c in 0..dim {
+                let (mut plus, mut minus) = (t, t);
+                plus[r][c] += h;
+                minus[r][c] -= h;
+                let gp = inverse_mean_ratio(&plus, dim, delta).expect("finite").1;
+                let gm = inverse_mean_ratio(&minus, dim, delta).expect("finite").1;
+                for a in 0..dim {
+                    for b in 0..dim {
+                        let fd = (gp[a][b] - gm[a][b]) / (2.0 * h);
+                        let exact = hess[3 * a + b][3 * r + c];
+                        assert!(
+                            (fd - exact).abs() < 1e-6 * (1.0 + fd.abs()),
+                            "dim {dim} δ {delta} [{a}{b}][{r}{c}]: {fd} vs {exact}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
