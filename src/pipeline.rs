@@ -687,13 +687,15 @@ fn curve_mesh_once<'g>(
             .as_ref()
             .map(|t| t.entities.keys().copied().collect())
             .unwrap_or_default();
-        let in_planes = match (&attempt.targets, &association) {
-            (Some(targets), Some((geometry, _))) => {
+        // (Only the untangling of uncertified elements slides nodes in their planes.)
+        let uncertified = !crate::repair::not_certified(&quality).is_empty();
+        let in_planes = match (&attempt.targets, &association, uncertified) {
+            (Some(targets), Some((geometry, _)), true) => {
                 crate::repair::nodes_in_planar_faces(geometry.model, &targets.entities)
             }
             _ => BTreeMap::new(),
         };
-        if !crate::repair::not_certified(&quality).is_empty() {
+        if uncertified {
             progress(Progress::Step(Step::Repair));
         }
         let t = Instant::now();

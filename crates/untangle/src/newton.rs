@@ -14,6 +14,11 @@ use crate::NodeConstraint;
 const MAX_NEWTON: usize = 60;
 /// Conjugate-gradient iterations per Newton step, at most.
 const MAX_LINEAR: usize = 1000;
+/// Pairs of free nodes coupled by the cells of a patch (counted per cell) beyond which
+/// Newton's method is not tried (the conjugate gradients' result stays): ~34 MB of
+/// pattern and at most ~600 MB of 3 × 3 blocks, reached by patches of ~7000 tetrahedra at
+/// p = 4 (~40 000 free nodes), far beyond the few hundred nodes a repair usually moves.
+const MAX_COUPLINGS: usize = 1 << 23;
 /// Cells whose Hessian blocks are formed at once (bounds the scratch memory).
 const CHUNK: usize = 256;
 /// A Newton step shorter than this fraction of the edge length ends the iteration: the
@@ -36,7 +41,24 @@ pub(crate) struct BlockHessian {
 
 impl BlockHessian {
     /// The pattern of `energy`'s Hessian: free nodes coupled when some cell has both.
-    pub(crate) fn pattern(energy: &DistortionEnergy<'_>, variables: usize) -> Self {
+    /// None when the cells couple more than [`MAX_COUPLINGS`] pairs of free nodes (counted
+    /// per cell, before the ones shared by cells are merged).
+    pub(crate) fn pattern(energy: &DistortionEnergy<'_>, variables: usize) -> Option<Self> {
+        let couplings: usize = energy
+            .cells
+            .iter()
+            .map(|cell| {
+                let free = cell
+                    .nodes
+                    .iter()
+                    .filter(|s| matches!(s, crate::energy::Slot::Free(_)))
+                    .count();
+                free * free
+            })
+            .sum();
+        if couplings > MAX_COUPLINGS {
+            return None;
+        }
         let mut rows: Vec<Vec<u32>> = vec![Vec::new(); variables];
         let mut cell_free = Vec::new();
         for cell in &energy.cells {
@@ -59,11 +81,11 @@ impl BlockHessian {
             row_start.push(columns.len());
         }
         let blocks = vec![[[0.0; 3]; 3]; columns.len()];
-        BlockHessian {
+        Some(BlockHessian {
             row_start,
             columns,
             blocks,
-        }
+        })
     }
 
     fn position(&self, row: u32, column: u32) -> Option<usize> {
@@ -207,7 +229,8 @@ fn spd_inverse(m: &Mat, dim: usize) -> Mat {
 /// positive) by Newton's method with Armijo backtracking, the Newton system solved by
 /// preconditioned conjugate gradients to a tolerance shrinking with the gradient (inexact
 /// Newton), stopped at a direction of negative curvature. `constraints` as in
-/// [`crate::optimise::minimise`]. Returns the Newton iterations done.
+/// [`crate::optimise::minimise`]. Returns the Newton iterations done (none for a patch
+/// beyond [`MAX_COUPLINGS`]).
 pub(crate) fn converge(
     energy: &DistortionEnergy<'_>,
     x: &mut [[f64; 3]],
@@ -223,7 +246,9 @@ pub(crate) fn converge(
             }
         }
     };
-    let mut hessian = BlockHessian::pattern(energy, n);
+    let Some(mut hessian) = BlockHessian::pattern(energy, n) else {
+        return 0;
+    };
     let mut grad = vec![[0.0; 3]; n];
     let mut trial = vec![[0.0; 3]; n];
     let mut first_norm = None;
