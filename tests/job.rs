@@ -175,6 +175,22 @@ fn step_and_iges_give_the_same_curved_mesh() {
     assert!(gap < 1e-9, "{gap:e}");
 }
 
+/// The largest coordinate difference between the nodes curved from STEP (`nodes[0]`) and
+/// from IGES (`nodes[1]`), and the model's size (largest coordinate).
+fn step_and_iges_gap(name: &str, nodes: &[Vec<[f64; 3]>]) -> (f64, f64) {
+    assert_eq!(nodes[0].len(), nodes[1].len(), "{name}");
+    let size = nodes[0]
+        .iter()
+        .map(|x| x[0].abs().max(x[1].abs()).max(x[2].abs()))
+        .fold(0.0, f64::max);
+    let gap = nodes[0]
+        .iter()
+        .zip(&nodes[1])
+        .flat_map(|(a, b)| (0..3).map(move |d| (a[d] - b[d]).abs()))
+        .fold(0.0, f64::max);
+    (gap, size)
+}
+
 /// Every part curved with the default options from its STEP and from its IGES export (both
 /// OpenCASCADE's) gives the same mesh, interior nodes included, to 1e-9 of the model (issue
 /// 22): the repair converges its patches' energy by Newton's method rather than stopping
@@ -212,16 +228,7 @@ fn step_and_iges_curve_every_part_to_the_same_mesh() {
             );
             nodes.push(finished.curved.mesh.nodes);
         }
-        assert_eq!(nodes[0].len(), nodes[1].len(), "{name}");
-        let size = nodes[0]
-            .iter()
-            .map(|x| x[0].abs().max(x[1].abs()).max(x[2].abs()))
-            .fold(0.0, f64::max);
-        let gap = nodes[0]
-            .iter()
-            .zip(&nodes[1])
-            .flat_map(|(a, b)| (0..3).map(move |d| (a[d] - b[d]).abs()))
-            .fold(0.0, f64::max);
+        let (gap, size) = step_and_iges_gap(name, &nodes);
         println!("{name} p = {order}: STEP and IGES meshes {gap:.1e} apart (model {size:.1})");
         let files_agree_to = if name == "cone_plate" { 1e-8 } else { 1e-9 };
         assert!(gap < files_agree_to * size, "{name}: {gap:e}");
@@ -262,16 +269,7 @@ fn step_and_iges_place_the_same_boundary_nodes() {
                 .unwrap_or_else(|e| panic!("{name}.{ext}: {e}"));
             nodes.push(finished.curved.mesh.nodes);
         }
-        assert_eq!(nodes[0].len(), nodes[1].len(), "{name}");
-        let size = nodes[0]
-            .iter()
-            .map(|x| x[0].abs().max(x[1].abs()).max(x[2].abs()))
-            .fold(0.0, f64::max);
-        let gap = nodes[0]
-            .iter()
-            .zip(&nodes[1])
-            .flat_map(|(a, b)| (0..3).map(move |d| (a[d] - b[d]).abs()))
-            .fold(0.0, f64::max);
+        let (gap, size) = step_and_iges_gap(name, &nodes);
         println!("{name}: STEP and IGES nodes {gap:.1e} apart (model {size:.1})");
         assert!(gap < 1e-8 * size, "{name}: {gap:e}");
     }
