@@ -19,6 +19,13 @@ const MAX_LINEAR: usize = 1000;
 /// pattern and at most ~600 MB of 3 × 3 blocks, reached by patches of ~7000 tetrahedra at
 /// p = 4 (~40 000 free nodes), far beyond the few hundred nodes a repair usually moves.
 const MAX_COUPLINGS: usize = 1 << 23;
+/// Σ over a patch's cells of (free nodes)² × (sample points) beyond which Newton's method
+/// is not tried (the conjugate gradients' result stays): forming the Hessian costs ~27
+/// flops per unit, so this is ~3 GFlop (about a second here) per Newton iteration. The
+/// parts whose repair decides STEP ≡ IGES need up to 4e7 (filleted_boss at p = 4); a
+/// patch of p = 9 tetrahedra needs 1.5e9 and took minutes. (A Hessian-free Newton–CG,
+/// whose products cost a gradient each, would lift this limit.)
+const MAX_HESSIAN_WORK: usize = 100_000_000;
 /// Cells whose Hessian blocks are formed at once (bounds the scratch memory).
 const CHUNK: usize = 256;
 /// A Newton step shorter than this fraction of the edge length ends the iteration: the
@@ -230,7 +237,7 @@ fn spd_inverse(m: &Mat, dim: usize) -> Mat {
 /// preconditioned conjugate gradients to a tolerance shrinking with the gradient (inexact
 /// Newton), stopped at a direction of negative curvature. `constraints` as in
 /// [`crate::optimise::minimise`]. Returns the Newton iterations done (none for a patch
-/// beyond [`MAX_COUPLINGS`]).
+/// beyond [`MAX_HESSIAN_WORK`] or [`MAX_COUPLINGS`]).
 pub(crate) fn converge(
     energy: &DistortionEnergy<'_>,
     x: &mut [[f64; 3]],
@@ -246,6 +253,21 @@ pub(crate) fn converge(
             }
         }
     };
+    let work: usize = energy
+        .cells
+        .iter()
+        .map(|cell| {
+            let free = cell
+                .nodes
+                .iter()
+                .filter(|s| matches!(s, crate::energy::Slot::Free(_)))
+                .count();
+            free * free * cell.ideal_inverse.len()
+        })
+        .sum();
+    if work > MAX_HESSIAN_WORK {
+        return 0;
+    }
     let Some(mut hessian) = BlockHessian::pattern(energy, n) else {
         return 0;
     };
