@@ -51,18 +51,7 @@ impl BlockHessian {
     /// None when the cells couple more than [`MAX_COUPLINGS`] pairs of free nodes (counted
     /// per cell, before the ones shared by cells are merged).
     pub(crate) fn pattern(energy: &DistortionEnergy<'_>, variables: usize) -> Option<Self> {
-        let couplings: usize = energy
-            .cells
-            .iter()
-            .map(|cell| {
-                let free = cell
-                    .nodes
-                    .iter()
-                    .filter(|s| matches!(s, crate::energy::Slot::Free(_)))
-                    .count();
-                free * free
-            })
-            .sum();
+        let couplings: usize = energy.cells.iter().map(free_pairs).sum();
         if couplings > MAX_COUPLINGS {
             return None;
         }
@@ -177,6 +166,16 @@ impl BlockHessian {
     }
 }
 
+/// The pairs of free nodes a cell couples: (its free nodes)².
+fn free_pairs(cell: &crate::energy::CellTerm) -> usize {
+    let free = cell
+        .nodes
+        .iter()
+        .filter(|s| matches!(s, crate::energy::Slot::Free(_)))
+        .count();
+    free * free
+}
+
 /// The inverse of a symmetric positive definite dim × dim block by Cholesky, or
 /// (1 / largest diagonal) I when it is not positive definite (I when that is not positive).
 fn spd_inverse(m: &Mat, dim: usize) -> Mat {
@@ -256,14 +255,7 @@ pub(crate) fn converge(
     let work: usize = energy
         .cells
         .iter()
-        .map(|cell| {
-            let free = cell
-                .nodes
-                .iter()
-                .filter(|s| matches!(s, crate::energy::Slot::Free(_)))
-                .count();
-            free * free * cell.ideal_inverse.len()
-        })
+        .map(|cell| free_pairs(cell) * cell.ideal_inverse.len())
         .sum();
     if work > MAX_HESSIAN_WORK {
         return 0;
