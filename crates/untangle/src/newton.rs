@@ -8,6 +8,7 @@
 use rayon::prelude::*;
 
 use crate::energy::{DistortionEnergy, Mat};
+use crate::optimise::{dot, moved, neg, norm};
 use crate::NodeConstraint;
 
 /// Newton iterations at most (each converges the next digits; 10–20 are typical).
@@ -287,13 +288,10 @@ pub(crate) fn converge(
         let mut step = newton_step(&hessian, &grad, eta, dim, &project);
         let mut slope = dot(&grad, &step, dim);
         if slope.is_nan() || slope >= 0.0 {
-            step = grad.iter().map(|g| [-g[0], -g[1], -g[2]]).collect();
+            step = grad.iter().map(neg).collect();
             slope = -g_norm * g_norm;
         }
-        let longest = step
-            .iter()
-            .map(|s| (0..dim).map(|k| s[k] * s[k]).sum::<f64>().sqrt())
-            .fold(0.0f64, f64::max);
+        let longest = step.iter().map(|s| norm(s, dim)).fold(0.0f64, f64::max);
         if longest == 0.0 {
             break;
         }
@@ -303,12 +301,7 @@ pub(crate) fn converge(
         let small = alpha == 1.0 && longest <= SMALL_STEP * length;
         let mut accepted = false;
         for _ in 0..40 {
-            for ((t, xi), s) in trial.iter_mut().zip(x.iter()).zip(&step) {
-                for k in 0..dim {
-                    t[k] = xi[k] + alpha * s[k];
-                }
-                t[dim..].copy_from_slice(&xi[dim..]);
-            }
+            moved(&mut trial, x, &step, alpha, dim);
             let e = energy.evaluate(&trial, 0.0, None).energy;
             let armijo = e <= current + 1e-4 * alpha * slope;
             let round_off = small && alpha == 1.0 && e <= current + 1e-13 * current.abs();
@@ -353,7 +346,7 @@ fn newton_step(
         project(z);
     };
     let mut x = vec![[0.0; 3]; n];
-    let mut r: Vec<[f64; 3]> = grad.iter().map(|g| [-g[0], -g[1], -g[2]]).collect();
+    let mut r: Vec<[f64; 3]> = grad.iter().map(neg).collect();
     let mut z = vec![[0.0; 3]; n];
     precondition(&r, &mut z);
     let mut p = z.clone();
@@ -388,11 +381,4 @@ fn newton_step(
         }
     }
     x
-}
-
-fn dot(a: &[[f64; 3]], b: &[[f64; 3]], dim: usize) -> f64 {
-    a.iter()
-        .zip(b)
-        .map(|(a, b)| (0..dim).map(|k| a[k] * b[k]).sum::<f64>())
-        .sum()
 }

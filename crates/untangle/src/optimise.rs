@@ -89,12 +89,7 @@ pub(crate) fn minimise(
             let mut alpha = (2.0 * step).min(0.1 * length) / longest;
             let mut accepted = None;
             for _ in 0..50 {
-                for ((t, xi), d) in trial.iter_mut().zip(x.iter()).zip(&direction) {
-                    for k in 0..dim {
-                        t[k] = xi[k] + alpha * d[k];
-                    }
-                    t[dim..].copy_from_slice(&xi[dim..]);
-                }
+                moved(&mut trial, x, &direction, alpha, dim);
                 let e = energy.evaluate(&trial, delta, None);
                 if e.energy.is_finite() && e.energy <= current.energy + 1e-4 * alpha * slope {
                     accepted = Some(e);
@@ -141,17 +136,33 @@ pub(crate) fn minimise(
     }
 }
 
-fn neg(g: &[f64; 3]) -> [f64; 3] {
+/// `trial` = `x` + α `direction` in the first `dim` coordinates (the rest kept).
+pub(crate) fn moved(
+    trial: &mut [[f64; 3]],
+    x: &[[f64; 3]],
+    direction: &[[f64; 3]],
+    alpha: f64,
+    dim: usize,
+) {
+    for ((t, xi), d) in trial.iter_mut().zip(x).zip(direction) {
+        for k in 0..dim {
+            t[k] = xi[k] + alpha * d[k];
+        }
+        t[dim..].copy_from_slice(&xi[dim..]);
+    }
+}
+
+pub(crate) fn neg(g: &[f64; 3]) -> [f64; 3] {
     [-g[0], -g[1], -g[2]]
 }
 
-fn dot(a: &[[f64; 3]], b: &[[f64; 3]], dim: usize) -> f64 {
+pub(crate) fn dot(a: &[[f64; 3]], b: &[[f64; 3]], dim: usize) -> f64 {
     a.iter()
         .zip(b)
         .map(|(a, b)| (0..dim).map(|k| a[k] * b[k]).sum::<f64>())
         .sum()
 }
 
-fn norm(a: &[f64; 3], dim: usize) -> f64 {
+pub(crate) fn norm(a: &[f64; 3], dim: usize) -> f64 {
     (0..dim).map(|k| a[k] * a[k]).sum::<f64>().sqrt()
 }
