@@ -14,10 +14,17 @@
 //!    wall's boundary edge and two at distance h = its own shortest edge (a facet lying on
 //!    the surface is off it by the CAD–mesh mismatch, a tiny fraction of its edges).
 //!    Among the entities that pass, the one nearest the facet's centre (its worst vertex
-//!    distance when larger) wins — unless others score within [`SCORE_TIE`] of it. Then the
+//!    distance when larger) wins — unless others score within [`SCORE_TIE`] of it, or
+//!    within the model's round-off ([`GeometryModel::round_off`]) of it. Then the
 //!    facet's mesh entity decides (a mesh generator meshes each CAD face as one entity): the
 //!    entity within reach of every facet of it (of several, the one nearest all their
-//!    vertices), if it is among the tied; else the one nearest the facet's vertices. A facet
+//!    vertices; of several as near to round-off, the smallest patch), if it is among the
+//!    tied; else the one nearest the facet's vertices (to round-off; then the smallest
+//!    patch). Round-off must not decide: where parts of an assembly touch, a facet on a
+//!    plate under a nut measures 0 from the nut's face and 4e-14 from the plate's in one
+//!    file, and the other way round in another file of the same model. The smallest patch
+//!    among coincident faces is the one that fits the mesh entity (the nut's face for the
+//!    nut's mesh surface; the plate's patch holds it too), in any file of the model. A facet
 //!    on a sharply curved blade face of Ventilator.stp, beside the fillet it blends into, has
 //!    its centre (a sagitta inside the blade) 3.7e-3 from the blade and 3.4e-3 from the
 //!    fillet's torus, but its vertices within 1.1e-6 of the blade and up to 1.1e-3 from the
@@ -158,6 +165,8 @@ pub fn associate_boundary(
         }
     }
     let by_name = facet_entity.iter().flatten().count();
+    let round_off = geometry.round_off();
+    let sizes: Vec<f64> = geometry.entities.iter().map(|e| e.size()).collect();
 
     // Rule 2: proximity, with the vertex–entity distances computed once per vertex.
     let mut by_proximity = 0;
@@ -233,7 +242,7 @@ pub fn associate_boundary(
                 let mut least = f64::INFINITY;
                 let mut scored: Vec<(f64, f64, usize)> = Vec::new();
                 for &(e, worst) in &within {
-                    let tie = SCORE_TIE * least;
+                    let tie = (SCORE_TIE * least).max(round_off);
                     if worst > tie {
                         break;
                     }
@@ -246,15 +255,19 @@ pub fn associate_boundary(
                     scored.push((score, worst, e));
                 }
                 within.sort_unstable_by_key(|w| w.0);
-                // Scores within `SCORE_TIE` of the least do not tell the entities apart:
-                // nearest vertices first, then the nearest centre.
+                // Scores within `SCORE_TIE` of the least, or within round-off of it, do not
+                // tell the entities apart: nearest vertices first, then the nearest centre,
+                // each to round-off, then the smallest patch.
                 let mut tied: Vec<(f64, f64, usize)> = scored
                     .into_iter()
-                    .filter(|s| s.0 <= SCORE_TIE * least)
+                    .filter(|s| s.0 <= (SCORE_TIE * least).max(round_off))
                     .collect();
+                let beyond_round_off = |d: f64| d.max(round_off);
                 tied.sort_by(|a, b| {
-                    a.1.total_cmp(&b.1)
-                        .then(a.0.total_cmp(&b.0))
+                    beyond_round_off(a.1)
+                        .total_cmp(&beyond_round_off(b.1))
+                        .then(beyond_round_off(a.0).total_cmp(&beyond_round_off(b.0)))
+                        .then(sizes[a.2].total_cmp(&sizes[b.2]))
                         .then(a.2.cmp(&b.2))
                 });
                 (
@@ -266,8 +279,9 @@ pub fn associate_boundary(
         // A facet between equally near entities goes with its mesh entity (a mesh generator
         // meshes each CAD face as one entity): to the entity within reach of every facet of
         // it — the nearest to all their vertices where several are (one face for all, so
-        // that no feature edge runs between two faces that nearly coincide) — when that is
-        // among its own.
+        // that no feature edge runs between two faces that nearly coincide), distances below
+        // round-off counting as round-off and totals within round-off of the least as
+        // equal, then the smallest patch — when that is among its own.
         let mut common: BTreeMap<i32, Vec<(usize, f64)>> = BTreeMap::new();
         for (facet, (_, within)) in mesh.facets.iter().zip(&ranked) {
             if within.is_empty() {
@@ -278,20 +292,27 @@ pub fn associate_boundary(
                 .and_modify(|c| {
                     c.retain_mut(|(e, total)| match within.binary_search_by_key(e, |w| w.0) {
                         Ok(k) => {
-                            *total += within[k].1;
+                            *total += within[k].1.max(round_off);
                             true
                         }
                         Err(_) => false,
                     })
                 })
-                .or_insert_with(|| within.clone());
+                .or_insert_with(|| {
+                    within
+                        .iter()
+                        .map(|&(e, worst)| (e, worst.max(round_off)))
+                        .collect()
+                });
         }
         let face_of: BTreeMap<i32, usize> = common
             .into_iter()
             .filter_map(|(tag, c)| {
+                let least = c.iter().map(|w| w.1).fold(f64::INFINITY, f64::min);
                 let nearest = c
                     .into_iter()
-                    .min_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)))?;
+                    .filter(|w| w.1 <= least + round_off)
+                    .min_by(|a, b| sizes[a.0].total_cmp(&sizes[b.0]).then(a.0.cmp(&b.0)))?;
                 Some((tag, nearest.0))
             })
             .collect();

@@ -353,9 +353,16 @@ impl GeometryModel {
     }
 
     /// How far apart two faces' copies of one edge may be and still be one edge: the
-    /// file's stated uncertainty, or round-off (1e-9 of the model) when it states less.
+    /// file's stated uncertainty, or [`Self::round_off`] when it states less.
     pub(crate) fn edge_copy_tolerance(&self) -> f64 {
-        self.uncertainty.unwrap_or(0.0).max(1e-9 * self.size())
+        self.uncertainty.unwrap_or(0.0).max(self.round_off())
+    }
+
+    /// Distances below which points of the model are not told apart: 1e-9 of its
+    /// [`Self::size`], the round-off of evaluating and inverting its patches (a point on
+    /// two coincident faces measures 0 from one and 4e-14 from the other).
+    pub fn round_off(&self) -> f64 {
+        1e-9 * self.size()
     }
 
     /// Sets the model's CAD edges from each face's copies of its boundary curves (`faces`:

@@ -614,3 +614,75 @@ fn facets_between_faces_that_blend_go_by_their_vertices_then_their_mesh_entity()
         [Some(1), Some(1), Some(1), Some(0), Some(0)]
     );
 }
+
+/// Parts of an assembly that touch: a nut's face [4, 6]² lies on a plate's face [0, 10]²
+/// (both z = 0). The plate's mesh surface has a facet under the nut, on both faces; the
+/// nut's mesh surface lies on both faces too. Which face is nearer is round-off (one file
+/// of the model measures the plate 4e-14 off, another the nut) and which comes first is the
+/// file's order: neither may decide. The plate's facets go to the plate (the only face
+/// within reach of all of them), the nut's to the nut (the smaller of the two that are).
+#[test]
+fn where_parts_touch_facets_go_to_the_same_faces_whatever_the_round_off_and_order() {
+    use hocurve_mesh::{Element, Shape};
+    use std::collections::BTreeMap;
+    let triangle = |v: [u32; 3], entity: i32| Element {
+        kind: Shape::Tri,
+        vertices: v.to_vec(),
+        entity,
+    };
+    let at = |x: f64, y: f64| [x, y, 0.0];
+    let mesh = LinearMesh {
+        dim: 3,
+        vertices: vec![
+            at(0.0, 0.0),
+            at(10.0, 0.0),
+            at(0.0, 10.0),
+            at(4.5, 4.5),
+            at(5.5, 4.5),
+            at(5.0, 5.5),
+            at(4.2, 4.2),
+            at(5.8, 4.2),
+            at(5.0, 5.8),
+        ],
+        cells: Vec::new(),
+        facets: vec![
+            triangle([0, 1, 2], 1),
+            triangle([3, 4, 5], 1),
+            triangle([6, 7, 8], 2),
+        ],
+        physical_groups: Vec::new(),
+        entity_physicals: BTreeMap::new(),
+        vertex_tags: Vec::new(),
+        cell_tags: Vec::new(),
+        facet_tags: Vec::new(),
+    };
+    let face = |name: &str, lo: f64, hi: f64, z: f64| {
+        let corner = |x: f64, y: f64| [x, y, z];
+        let patch = hocurve_nurbs::shapes::bilinear_patch([
+            [corner(lo, lo), corner(lo, hi)],
+            [corner(hi, lo), corner(hi, hi)],
+        ])
+        .expect("plane");
+        GeometricEntity::new(name, "test", EntityGeometry::Surface(patch))
+    };
+    for (plate_z, nut_z) in [(0.0, 0.0), (4e-14, 0.0), (0.0, 4e-14)] {
+        let plate = face("plate", 0.0, 10.0, plate_z);
+        let nut = face("nut", 4.0, 6.0, nut_z);
+        for entities in [vec![plate.clone(), nut.clone()], vec![nut, plate]] {
+            let model = GeometryModel::new(entities, None);
+            let a = associate_boundary(&mesh, &model, AssociationRule::NameThenNearest, None)
+                .expect("associates");
+            let names: Vec<&str> = a
+                .facet_entity
+                .iter()
+                .map(|e| e.map_or("none", |e| model.entities[e].name.as_str()))
+                .collect();
+            assert_eq!(
+                names,
+                ["plate", "plate", "nut"],
+                "plate at z = {plate_z:e}, nut at z = {nut_z:e}, {} first",
+                model.entities[0].name
+            );
+        }
+    }
+}
