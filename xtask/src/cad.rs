@@ -244,6 +244,15 @@ const CASES: [Case; 28] = [
         orders: 2..=5,
         vtk_from: usize::MAX,
     },
+    // An assembly whose parts touch: coincident faces of different parts, coaxial bores.
+    Case {
+        name: "bolted_plate",
+        geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
     // The same models from OpenCASCADE's STEP export (fixtures also in IGES above).
     Case {
         name: "sphere_coarse",
