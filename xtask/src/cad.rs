@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 28] = [
+const CASES: [Case; 29] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
