@@ -566,20 +566,22 @@ fn curve_mesh_once<'g>(
 
     // The paper's curving, with its minimum-angle corrections (Fig. 4) where there are any.
     let placement = &options.placement;
-    let mut curve_with = |placement: &PlacementOptions, timings: &mut StepTimings| {
-        let boundary = association
-            .as_ref()
-            .map(|(geometry, association)| Boundary::Place {
-                geometry: *geometry,
-                association,
-                placement,
-                traces,
-            });
-        curve_and_certify(
-            linear, &straight, geometry, boundary, options, progress, timings,
-        )
-    };
-    let (mut attempt, mut quality) = curve_with(placement, &mut timings)?;
+    let mut curve_with =
+        |placement: &PlacementOptions, initial: &[[f64; 3]], timings: &mut StepTimings| {
+            let boundary = association
+                .as_ref()
+                .map(|(geometry, association)| Boundary::Place {
+                    geometry: *geometry,
+                    association,
+                    placement,
+                    traces,
+                    initial,
+                });
+            curve_and_certify(
+                linear, &straight, geometry, boundary, options, progress, timings,
+            )
+        };
+    let (mut attempt, mut quality) = curve_with(placement, &[], &mut timings)?;
     // A correction is kept only if every element touching its edge is better certified
     // with it than without any (the paper's rule is a heuristic on angles, which can do
     // harm), and the mesh as a whole no worse than with the correction off.
@@ -588,7 +590,10 @@ fn curve_mesh_once<'g>(
     if !corrected.is_empty() {
         let mut plain = placement.clone();
         plain.uncorrected_edges.extend(corrected.iter().copied());
-        let (without, without_quality) = curve_with(&plain, &mut timings)?;
+        // The curvings with fewer corrections differ near the corrected edges only: CG
+        // starts from the displacement with all of them.
+        let (without, without_quality) =
+            curve_with(&plain, &attempt.solved_displacement, &mut timings)?;
         let losers = corrections_not_helping(
             &attempt.mesh,
             &corrected,
@@ -598,7 +603,7 @@ fn curve_mesh_once<'g>(
         if !losers.is_empty() && losers.len() < corrected.len() {
             let mut some = placement.clone();
             some.uncorrected_edges.extend(losers.iter().copied());
-            (attempt, quality) = curve_with(&some, &mut timings)?;
+            (attempt, quality) = curve_with(&some, &attempt.solved_displacement, &mut timings)?;
             undone_corrections = losers.len();
         }
         let minimum = |q: &MeshQuality| {
