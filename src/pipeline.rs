@@ -1,7 +1,7 @@
 //! The whole method on a mesh in memory, end to end: a linear mesh and a geometry in, a
 //! curved order-p mesh, its quality and a report out. The steps, each in its own module:
 //!
-//! 1. [`associate_boundary`] ties boundary facets to geometry entities, and cells no
+//! 1. [`associate_boundary`](hocurve_geodesic::associate_boundary) ties boundary facets to geometry entities, and cells no
 //!    curving can make valid are split (`precurving`);
 //! 2. [`HighOrderMesh::from_linear`] places the order-p nodes on the straight elements;
 //! 3. [`hocurve_geodesic::place_boundary_nodes_with`] puts the boundary nodes on the true
@@ -20,7 +20,8 @@ use hocurve_elastic::{ElasticError, Material, SolverOptions};
 
 pub use crate::active_region::SolveRegion;
 use hocurve_geodesic::{
-    associate_boundary, AssociationRule, FeatureTraces, GeodesicError, PlacementOptions,
+    associate_boundary_reusing, AssociationRule, FeatureTraces, GeodesicError, PlacementOptions,
+    ProximityCache,
 };
 use hocurve_mesh::{HighOrderMesh, LinearMesh, MeshError};
 use hocurve_nodes::{NodeFamily, NodesError};
@@ -250,16 +251,24 @@ pub fn curve_mesh(
 ) -> Result<CurvedMesh, CurveError> {
     // Before the association, whose "nothing on the geometry" would hide the reason.
     linear.check_planar()?;
-    // Every placement of the run (each round's, with and without corrections) on one model.
-    let traces = FeatureTraces::default();
     refine_and_curve(
         linear,
         geometry,
         options,
         progress,
         REFINEMENT_ROUNDS,
-        &traces,
+        &Kept::default(),
     )
+}
+
+/// What the curvings of one run on one model share: every association (after each split,
+/// each round's) the vertices' distances to the entities, every placement (each round's,
+/// with and without corrections) the traced feature curves. Reused values are the ones
+/// computing them again would give, bit for bit.
+#[derive(Default)]
+struct Kept<'g> {
+    traces: FeatureTraces<'g>,
+    proximity: ProximityCache,
 }
 
 /// [`curve_mesh`] with `rounds` rounds of refinement left. When every element left
@@ -274,7 +283,7 @@ fn refine_and_curve<'g>(
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
     rounds: usize,
-    traces: &FeatureTraces<'g>,
+    kept: &Kept<'g>,
 ) -> Result<CurvedMesh, CurveError> {
     let start = Instant::now();
     let refining = geometry.is_some()
@@ -303,15 +312,15 @@ fn refine_and_curve<'g>(
         options,
         progress,
         refining && rounds > 0,
-        traces,
+        kept,
     )? {
         Once::Curved(curved) => *curved,
         Once::Deferred(deferred) => {
             let (split, count, facet_count) =
-                split_for_refinement(&deferred.base, geometry, options, &deferred.cells)?;
+                split_for_refinement(&deferred.base, geometry, options, &deferred.cells, kept)?;
             progress(Progress::Step(Step::Refinement));
             // (A split mesh that cannot be curved: the input's own repair below.)
-            let again = refine_and_curve(&split, geometry, options, progress, rounds - 1, traces)
+            let again = refine_and_curve(&split, geometry, options, progress, rounds - 1, kept)
                 .ok()
                 .filter(|again| crate::repair::not_certified(&again.quality).is_empty());
             if let Some(mut again) = again {
@@ -331,7 +340,7 @@ fn refine_and_curve<'g>(
                 return Ok(again);
             }
             // The split mesh does not certify either: the input's own repair after all.
-            match curve_mesh_once(linear, geometry, options, progress, false, traces)? {
+            match curve_mesh_once(linear, geometry, options, progress, false, kept)? {
                 Once::Curved(curved) => *curved,
                 Once::Deferred(_) => unreachable!("nothing is deferred when not asked"),
             }
@@ -343,13 +352,14 @@ fn refine_and_curve<'g>(
             break;
         }
         let base = curved.split_input.as_ref().unwrap_or(linear);
-        let (split, count, facet_count) = split_for_refinement(base, geometry, options, &failing)?;
+        let (split, count, facet_count) =
+            split_for_refinement(base, geometry, options, &failing, kept)?;
         if count + facet_count == 0 {
             break;
         }
         progress(Progress::Step(Step::Refinement));
         // A split mesh that cannot be curved leaves the result as it was.
-        let again = match curve_mesh_once(&split, geometry, options, progress, false, traces) {
+        let again = match curve_mesh_once(&split, geometry, options, progress, false, kept) {
             Ok(Once::Curved(again)) => again,
             Ok(Once::Deferred(_)) => unreachable!("nothing is deferred when not asked"),
             Err(_) => break,
@@ -393,6 +403,7 @@ fn split_for_refinement(
     geometry: Option<Geometry>,
     options: &CurveOptions,
     cells: &[usize],
+    kept: &Kept,
 ) -> Result<(LinearMesh, usize, usize), CurveError> {
     let chords = crate::precurving::longest_chords(base, cells);
     let chordless: Vec<usize> = cells
@@ -405,11 +416,12 @@ fn split_for_refinement(
     // association, a pass over the whole boundary, only when some cell has no chord.)
     let facet_edges = match geometry {
         Some(geometry) if !chordless.is_empty() => {
-            let association = associate_boundary(
+            let association = associate_boundary_reusing(
                 base,
                 geometry.model,
                 geometry.rule,
                 options.geometry_tolerance,
+                &kept.proximity,
             )?;
             crate::precurving::longest_curved_facet_edges(
                 base,
@@ -476,7 +488,7 @@ fn curve_mesh_once<'g>(
     options: &CurveOptions,
     progress: &mut dyn FnMut(Progress),
     defer: bool,
-    traces: &FeatureTraces<'g>,
+    kept: &Kept<'g>,
 ) -> Result<Once, CurveError> {
     let start = Instant::now();
     let mut timings = StepTimings::default();
@@ -496,11 +508,12 @@ fn curve_mesh_once<'g>(
         progress(Progress::Step(Step::Association));
         let t = Instant::now();
         let associate = |linear: &LinearMesh| {
-            let association = associate_boundary(
+            let association = associate_boundary_reusing(
                 linear,
                 geometry.model,
                 geometry.rule,
                 options.geometry_tolerance,
+                &kept.proximity,
             )?;
             if association.by_name + association.by_proximity == 0 {
                 return Err(CurveError::NothingOnGeometry {
@@ -574,7 +587,7 @@ fn curve_mesh_once<'g>(
                     geometry: *geometry,
                     association,
                     placement,
-                    traces,
+                    traces: &kept.traces,
                     initial,
                 });
             curve_and_certify(

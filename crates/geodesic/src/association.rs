@@ -43,7 +43,8 @@
 //! entity. A vertex shared by facets on two entities (a feature edge) is moved onto both by
 //! alternating projections, which converge to the intersection where the two meet at an angle.
 
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
+use std::sync::{Arc, Mutex};
 
 use hocurve_mesh::LinearMesh;
 use hocurve_nurbs::vec3::distance;
@@ -115,6 +116,109 @@ impl BoundaryAssociation {
     }
 }
 
+/// The distances from boundary vertices to the geometry's entities, kept across the
+/// associations of one run: the pipeline associates the boundary again after every split
+/// of the mesh (rims, doubly curved corners, each refinement round), and a split leaves
+/// nearly every vertex where it was. Each distance is a point inversion on a patch (on a
+/// B-spline model, most of the association's time: Ventilator.stp, 102 k facets, 17 s).
+/// Kept by the vertex's coordinates' bits for one model, tolerance and entity dimension
+/// (another clears it): a kept row is the row computing it again would give, bit for bit.
+/// Beyond [`KEPT_DISTANCES`] distances no more rows are kept.
+#[derive(Debug, Default)]
+pub struct ProximityCache {
+    kept: Mutex<KeptDistances>,
+}
+
+/// At most this many vertex–entity distances are kept by a [`ProximityCache`] (16 bytes
+/// each: 128 MB).
+pub const KEPT_DISTANCES: usize = 1 << 23;
+
+/// The rows kept, what they were computed for, and their entries in all.
+#[derive(Debug, Default)]
+struct KeptDistances {
+    /// The model's address, the tolerance's bits, and whether the candidates are curves.
+    context: Option<(usize, u64, bool)>,
+    rows: HashMap<[u64; 3], Arc<DistanceRow>>,
+    entries: usize,
+}
+
+/// A vertex's distance to each candidate entity (by position in the candidate list, ascending)
+/// whose patch is not provably beyond the tolerance; the others are infinitely far.
+type DistanceRow = Vec<(u32, f64)>;
+
+/// The distance to candidate `k` in `row` (infinite when left out).
+fn distance_in(row: &DistanceRow, k: usize) -> f64 {
+    row.binary_search_by_key(&(k as u32), |e| e.0)
+        .map_or(f64::INFINITY, |i| row[i].1)
+}
+
+impl ProximityCache {
+    /// The rows kept.
+    #[cfg(test)]
+    pub(crate) fn kept_rows(&self) -> usize {
+        self.kept.lock().map_or(0, |k| k.rows.len())
+    }
+
+    /// The distance rows of the points `xs` to `candidates` of `geometry`, from the cache
+    /// where kept, computed (in parallel) and kept otherwise.
+    fn rows(
+        &self,
+        geometry: &GeometryModel,
+        candidates: &[usize],
+        (tolerance, wants_curve): (f64, bool),
+        xs: &[[f64; 3]],
+    ) -> Vec<Arc<DistanceRow>> {
+        let key = |x: &[f64; 3]| x.map(f64::to_bits);
+        let context = (
+            geometry as *const GeometryModel as usize,
+            tolerance.to_bits(),
+            wants_curve,
+        );
+        let mut found: Vec<Option<Arc<DistanceRow>>> = {
+            let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+            if kept.context != Some(context) {
+                *kept = KeptDistances {
+                    context: Some(context),
+                    ..KeptDistances::default()
+                };
+            }
+            xs.iter().map(|x| kept.rows.get(&key(x)).cloned()).collect()
+        };
+        // An entity without a closed form lies in the boxes of its knot spans' control
+        // points (convex hull, positive weights): a vertex farther than the tolerance from
+        // all of them cannot be on it, and its point inversion is skipped.
+        let missing: Vec<usize> = (0..xs.len()).filter(|&i| found[i].is_none()).collect();
+        let computed: Vec<Arc<DistanceRow>> = missing
+            .par_iter()
+            .map(|&i| {
+                let x = xs[i];
+                let row: DistanceRow = candidates
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(k, &e)| {
+                        let entity = &geometry.entities[e];
+                        if entity.analytic.is_none() && entity.patch_is_farther_than(x, tolerance) {
+                            None
+                        } else {
+                            Some((k as u32, entity.distance(x)))
+                        }
+                    })
+                    .collect();
+                Arc::new(row)
+            })
+            .collect();
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        for (&i, row) in missing.iter().zip(computed) {
+            if kept.entries + row.len() <= KEPT_DISTANCES {
+                kept.entries += row.len();
+                kept.rows.insert(key(&xs[i]), row.clone());
+            }
+            found[i] = Some(row);
+        }
+        found.into_iter().flatten().collect()
+    }
+}
+
 /// Associates the declared facets of `mesh` with entities of `geometry` (see the module doc).
 /// `tolerance` is absolute; `None` takes [`DEFAULT_RELATIVE_TOLERANCE`] × the mesh's bounding-box
 /// diagonal.
@@ -123,6 +227,19 @@ pub fn associate_boundary(
     geometry: &GeometryModel,
     rule: AssociationRule,
     tolerance: Option<f64>,
+) -> Result<BoundaryAssociation, GeodesicError> {
+    associate_boundary_reusing(mesh, geometry, rule, tolerance, &ProximityCache::default())
+}
+
+/// [`associate_boundary`], the vertices' distances to the entities taken from `cache` where
+/// computed before (and kept there): for associating several meshes of one run, most of
+/// whose vertices are the same. The same association as without.
+pub fn associate_boundary_reusing(
+    mesh: &LinearMesh,
+    geometry: &GeometryModel,
+    rule: AssociationRule,
+    tolerance: Option<f64>,
+    cache: &ProximityCache,
 ) -> Result<BoundaryAssociation, GeodesicError> {
     let tolerance =
         tolerance.unwrap_or(DEFAULT_RELATIVE_TOLERANCE * bounding_box_diagonal(&mesh.vertices));
@@ -180,27 +297,12 @@ pub fn associate_boundary(
             .collect();
         open_vertices.sort_unstable();
         open_vertices.dedup();
-        // An entity without a closed form lies in the boxes of its knot spans' control
-        // points (convex hull, positive weights): a vertex farther than the tolerance from
-        // all of them cannot be on it, and its point inversion is skipped.
-        let distances: Vec<Vec<f64>> = open_vertices
-            .par_iter()
-            .map(|&v| {
-                let x = mesh.vertices[v as usize];
-                candidates
-                    .iter()
-                    .map(|&e| {
-                        let entity = &geometry.entities[e];
-                        if entity.analytic.is_none() && entity.patch_is_farther_than(x, tolerance) {
-                            f64::INFINITY
-                        } else {
-                            entity.distance(x)
-                        }
-                    })
-                    .collect()
-            })
+        let positions: Vec<[f64; 3]> = open_vertices
+            .iter()
+            .map(|&v| mesh.vertices[v as usize])
             .collect();
-        let row = |v: u32| -> &Vec<f64> {
+        let distances = cache.rows(geometry, &candidates, (tolerance, wants_curve), &positions);
+        let row = |v: u32| -> &DistanceRow {
             // Present: every open facet's vertices were collected above.
             &distances[open_vertices.binary_search(&v).unwrap_or(0)]
         };
@@ -225,7 +327,7 @@ pub fn associate_boundary(
                         let worst = facet
                             .vertices
                             .iter()
-                            .map(|&v| row(v)[k])
+                            .map(|&v| distance_in(row(v), k))
                             .fold(0.0, f64::max);
                         (e, worst)
                     })

@@ -34,7 +34,10 @@ pub(crate) mod frame;
 pub mod path;
 pub mod placement;
 
-pub use association::{associate_boundary, AssociationRule, BoundaryAssociation};
+pub use association::{
+    associate_boundary, associate_boundary_reusing, AssociationRule, BoundaryAssociation,
+    ProximityCache,
+};
 pub use chart::SurfaceChart;
 pub use closed_form::ClosedFormGeodesic;
 pub use feature::FeatureTraces;

@@ -686,3 +686,45 @@ fn where_parts_touch_facets_go_to_the_same_faces_whatever_the_round_off_and_orde
         }
     }
 }
+
+/// The association of a mesh, and of the mesh with edges split, is the same with the
+/// distances kept from an earlier association as without; only the vertices not seen
+/// before are measured, and another tolerance measures them all again.
+#[test]
+fn associations_reusing_kept_distances_are_the_same_as_without() {
+    use crate::{associate_boundary_reusing, ProximityCache};
+    let mesh = fixture("cad/bolted_plate.msh");
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/cad");
+    let model = hocurve_nurbs::step::read_step_geometry(&root.join("bolted_plate.step"))
+        .expect("STEP reads");
+    let rule = AssociationRule::NameThenNearest;
+    let cache = ProximityCache::default();
+    let fresh = associate_boundary(&mesh, &model, rule, None).expect("associates");
+    let reused = associate_boundary_reusing(&mesh, &model, rule, None, &cache).expect("ok");
+    assert_eq!(reused, fresh);
+    // Kept by position: where parts touch, two vertices of their two meshes coincide.
+    let positions = |mesh: &LinearMesh, a: &crate::BoundaryAssociation| {
+        a.vertex_targets
+            .keys()
+            .map(|&v| mesh.vertices[v as usize].map(f64::to_bits))
+            .collect::<std::collections::BTreeSet<_>>()
+            .len()
+    };
+    let on_boundary = positions(&mesh, &fresh);
+    assert!(on_boundary < fresh.vertex_targets.len());
+    assert_eq!(cache.kept_rows(), on_boundary);
+    // Cells' first edges split: new vertices inside, every boundary vertex where it was.
+    let edges: Vec<[u32; 2]> = mesh.cells[..40]
+        .iter()
+        .map(|c| [c.vertices[0].min(c.vertices[1]), c.vertices[0].max(c.vertices[1])])
+        .collect();
+    let (split, count) = mesh.split_edges(&edges);
+    assert!(count > 0);
+    let again = associate_boundary_reusing(&split, &model, rule, None, &cache).expect("ok");
+    assert_eq!(again, associate_boundary(&split, &model, rule, None).expect("ok"));
+    assert!(positions(&split, &again) > on_boundary, "boundary edges split too");
+    assert_eq!(cache.kept_rows(), positions(&split, &again));
+    let other = associate_boundary_reusing(&mesh, &model, rule, Some(1e-3), &cache).expect("ok");
+    assert_eq!(other, associate_boundary(&mesh, &model, rule, Some(1e-3)).expect("ok"));
+    assert_eq!(cache.kept_rows(), on_boundary, "kept for another tolerance: cleared");
+}
