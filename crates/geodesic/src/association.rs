@@ -116,14 +116,16 @@ impl BoundaryAssociation {
     }
 }
 
-/// The distances from boundary vertices to the geometry's entities, kept across the
-/// associations of one run: the pipeline associates the boundary again after every split
-/// of the mesh (rims, doubly curved corners, each refinement round), and a split leaves
-/// nearly every vertex where it was. Each distance is a point inversion on a patch (on a
-/// B-spline model, most of the association's time: Ventilator.stp, 102 k facets, 17 s).
-/// Kept by the vertex's coordinates' bits for one model, tolerance and entity dimension
-/// (another clears it): a kept row is the row computing it again would give, bit for bit.
-/// Beyond [`KEPT_DISTANCES`] distances no more rows are kept.
+/// The distances from boundary vertices and from facet centres to the geometry's entities,
+/// and the vertices snapped onto their entities, kept across the associations of one run:
+/// the pipeline associates the boundary again after every split of the mesh (rims, doubly
+/// curved corners, each refinement round), and a split leaves nearly every vertex and facet
+/// where it was. Each distance is a point inversion on a patch, and a snap alternating
+/// projections (on a B-spline model, all of the association's time: Ventilator.stp, 102 k
+/// facets, 20 s; again with all kept, 2 s). Kept by the point's coordinates' bits for one
+/// model, tolerance and entity dimension (another clears them): a kept distance is the
+/// one computing it again would give, bit for bit. Beyond [`KEPT_DISTANCES`] distances no
+/// more are kept.
 #[derive(Debug, Default)]
 pub struct ProximityCache {
     kept: Mutex<KeptDistances>,
@@ -139,8 +141,25 @@ struct KeptDistances {
     /// The model's address, the tolerance's bits, and whether the candidates are curves.
     context: Option<(usize, u64, bool)>,
     rows: HashMap<[u64; 3], Arc<DistanceRow>>,
+    /// Facet centres' distances to entities' patches, by the centre's bits and the entity.
+    centres: CentreDistances,
+    /// Vertices snapped onto their entities, by the vertex's bits and the entities.
+    snaps: Snaps,
     entries: usize,
 }
+
+/// Vertices snapped onto their entities ([`snap_onto`]), by the vertex's coordinates' bits
+/// and the entities' indices (each within the tolerance of the vertex).
+type Snaps = HashMap<SnapKey, [f64; 3]>;
+
+/// A vertex's coordinates' bits and its entities.
+type SnapKey = ([u64; 3], Vec<usize>);
+
+/// Facet centres' distances to entities' bounded patches ([`GeometricEntity::patch_distance`]),
+/// by the centre's coordinates' bits and the entity's index.
+///
+/// [`GeometricEntity::patch_distance`]: hocurve_nurbs::GeometricEntity::patch_distance
+type CentreDistances = HashMap<([u64; 3], u32), f64>;
 
 /// A vertex's distance to each candidate entity (by position in the candidate list, ascending)
 /// whose patch is not provably beyond the tolerance; the others are infinitely far.
@@ -153,35 +172,48 @@ fn distance_in(row: &DistanceRow, k: usize) -> f64 {
 }
 
 impl ProximityCache {
+    /// Keeps what follows for `geometry`, `tolerance` and candidates of the dimension
+    /// `wants_curve` says, clearing what was kept for others.
+    fn enter(&self, geometry: &GeometryModel, tolerance: f64, wants_curve: bool) {
+        let context = (
+            geometry as *const GeometryModel as usize,
+            tolerance.to_bits(),
+            wants_curve,
+        );
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        if kept.context != Some(context) {
+            *kept = KeptDistances {
+                context: Some(context),
+                ..KeptDistances::default()
+            };
+        }
+    }
+
     /// The rows kept.
     #[cfg(test)]
     pub(crate) fn kept_rows(&self) -> usize {
         self.kept.lock().map_or(0, |k| k.rows.len())
     }
 
-    /// The distance rows of the points `xs` to `candidates` of `geometry`, from the cache
-    /// where kept, computed (in parallel) and kept otherwise.
+    /// The centres' distances kept.
+    #[cfg(test)]
+    pub(crate) fn kept_centres(&self) -> usize {
+        self.kept.lock().map_or(0, |k| k.centres.len())
+    }
+
+    /// The distance rows of the points `xs` to `candidates` of `geometry` (within the
+    /// context of the last [`Self::enter`]), from the cache where kept, computed (in
+    /// parallel) and kept otherwise.
     fn rows(
         &self,
         geometry: &GeometryModel,
         candidates: &[usize],
-        (tolerance, wants_curve): (f64, bool),
+        tolerance: f64,
         xs: &[[f64; 3]],
     ) -> Vec<Arc<DistanceRow>> {
         let key = |x: &[f64; 3]| x.map(f64::to_bits);
-        let context = (
-            geometry as *const GeometryModel as usize,
-            tolerance.to_bits(),
-            wants_curve,
-        );
         let mut found: Vec<Option<Arc<DistanceRow>>> = {
-            let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-            if kept.context != Some(context) {
-                *kept = KeptDistances {
-                    context: Some(context),
-                    ..KeptDistances::default()
-                };
-            }
+            let kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
             xs.iter().map(|x| kept.rows.get(&key(x)).cloned()).collect()
         };
         // An entity without a closed form lies in the boxes of its knot spans' control
@@ -217,6 +249,46 @@ impl ProximityCache {
         }
         found.into_iter().flatten().collect()
     }
+
+    /// The centres' distances kept (for the context of the last [`Self::enter`]), taken out
+    /// so that the facets read them in parallel without a lock; [`Self::keep_centres`]
+    /// puts them back with the new ones.
+    fn take_centres(&self) -> CentreDistances {
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        std::mem::take(&mut kept.centres)
+    }
+
+    /// Puts back the centres' distances taken by [`Self::take_centres`], with `new` ones
+    /// while there is room.
+    fn keep_centres(&self, mut centres: CentreDistances, new: Vec<(([u64; 3], u32), f64)>) {
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        for (key, d) in new {
+            if kept.entries < KEPT_DISTANCES {
+                kept.entries += 1;
+                centres.insert(key, d);
+            }
+        }
+        kept.centres = centres;
+    }
+
+    /// The snapped vertices kept, taken out as [`Self::take_centres`] does.
+    fn take_snaps(&self) -> Snaps {
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        std::mem::take(&mut kept.snaps)
+    }
+
+    /// Puts back the snapped vertices taken by [`Self::take_snaps`], with `new` ones while
+    /// there is room.
+    fn keep_snaps(&self, mut snaps: Snaps, new: Vec<(SnapKey, [f64; 3])>) {
+        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
+        for (key, x) in new {
+            if kept.entries < KEPT_DISTANCES {
+                kept.entries += 1;
+                snaps.insert(key, x);
+            }
+        }
+        kept.snaps = snaps;
+    }
 }
 
 /// Associates the declared facets of `mesh` with entities of `geometry` (see the module doc).
@@ -248,6 +320,7 @@ pub fn associate_boundary_reusing(
     }
     // Entities of the facets' dimension: curves bound 2D meshes, surfaces 3D ones.
     let wants_curve = mesh.dim == 2;
+    cache.enter(geometry, tolerance, wants_curve);
     let candidates: Vec<usize> = (0..geometry.entities.len())
         .filter(|&i| geometry.entities[i].is_curve() == wants_curve)
         .collect();
@@ -301,24 +374,36 @@ pub fn associate_boundary_reusing(
             .iter()
             .map(|&v| mesh.vertices[v as usize])
             .collect();
-        let distances = cache.rows(geometry, &candidates, (tolerance, wants_curve), &positions);
+        let distances = cache.rows(geometry, &candidates, tolerance, &positions);
         let row = |v: u32| -> &DistanceRow {
             // Present: every open facet's vertices were collected above.
             &distances[open_vertices.binary_search(&v).unwrap_or(0)]
         };
         // Facet by facet in parallel: each scores its candidates by a point inversion of
-        // its centre, independently of the others.
-        let ranked: Vec<Ranking> = mesh
+        // its centre (unless kept), independently of the others.
+        let kept_centres = cache.take_centres();
+        type Scored = (Ranking, Vec<(([u64; 3], u32), f64)>);
+        let scored_facets: Vec<Scored> = mesh
             .facets
             .par_iter()
             .zip(facet_entity.par_iter())
             .map(|(facet, entity)| {
                 if entity.is_some() {
-                    return (Vec::new(), Vec::new());
+                    return ((Vec::new(), Vec::new()), Vec::new());
                 }
+                let mut measured = Vec::new();
                 let reach =
                     tolerance.min(PROXIMITY_EDGE_FRACTION * shortest_edge(mesh, &facet.vertices));
                 let centre = centroid(mesh, &facet.vertices);
+                let mut patch_distance = |e: usize| {
+                    let key = (centre.map(f64::to_bits), e as u32);
+                    if let Some(&d) = kept_centres.get(&key) {
+                        return d;
+                    }
+                    let d = geometry.entities[e].patch_distance(centre);
+                    measured.push((key, d));
+                    d
+                };
                 // Every entity within reach, with the facet's largest vertex distance.
                 let mut within: Vec<(usize, f64)> = candidates
                     .iter()
@@ -352,7 +437,7 @@ pub fn associate_boundary_reusing(
                     {
                         continue;
                     }
-                    let score = worst.max(geometry.entities[e].patch_distance(centre));
+                    let score = worst.max(patch_distance(e));
                     least = least.min(score);
                     scored.push((score, worst, e));
                 }
@@ -373,11 +458,23 @@ pub fn associate_boundary_reusing(
                         .then(a.2.cmp(&b.2))
                 });
                 (
-                    tied.into_iter().map(|(_, _, e)| e).collect::<Vec<usize>>(),
-                    within,
+                    (
+                        tied.into_iter().map(|(_, _, e)| e).collect::<Vec<usize>>(),
+                        within,
+                    ),
+                    measured,
                 )
             })
             .collect();
+        let mut new_centres = Vec::new();
+        let ranked: Vec<Ranking> = scored_facets
+            .into_iter()
+            .map(|(ranking, measured)| {
+                new_centres.extend(measured);
+                ranking
+            })
+            .collect();
+        cache.keep_centres(kept_centres, new_centres);
         // A facet between equally near entities goes with its mesh entity (a mesh generator
         // meshes each CAD face as one entity): to the entity within reach of every facet of
         // it — the nearest to all their vertices where several are (one face for all, so
@@ -458,11 +555,16 @@ pub fn associate_boundary_reusing(
         .iter()
         .map(|(v, e)| (*v, e.clone()))
         .collect();
-    type Snapped = Result<(u32, [f64; 3], f64), GeodesicError>;
+    // (A vertex snapped before, onto the same entities, was within the tolerance of each.)
+    let kept_snaps = cache.take_snaps();
+    type Snapped = Result<(u32, [f64; 3], f64, bool), GeodesicError>;
     let snapped: Vec<Snapped> = work
         .par_iter()
         .map(|(v, entities)| {
             let x = mesh.vertices[*v as usize];
+            if let Some(&target) = kept_snaps.get(&(x.map(f64::to_bits), entities.clone())) {
+                return Ok((*v, target, distance(target, x), false));
+            }
             for &e in entities {
                 let d = geometry.entities[e].distance(x);
                 if d > tolerance {
@@ -477,15 +579,31 @@ pub fn associate_boundary_reusing(
                 }
             }
             let target = snap_onto(geometry, entities, x);
-            Ok((*v, target, distance(target, x)))
+            Ok((*v, target, distance(target, x), true))
         })
         .collect();
     let mut vertex_targets = BTreeMap::new();
     let mut max_vertex_move: f64 = 0.0;
-    for s in snapped {
-        let (v, target, moved) = s?;
-        vertex_targets.insert(v, target);
-        max_vertex_move = max_vertex_move.max(moved);
+    let mut new_snaps = Vec::new();
+    let mut failed = None;
+    for (s, (_, entities)) in snapped.into_iter().zip(&work) {
+        match s {
+            Ok((v, target, moved, new)) => {
+                vertex_targets.insert(v, target);
+                max_vertex_move = max_vertex_move.max(moved);
+                if new {
+                    let x = mesh.vertices[v as usize];
+                    new_snaps.push(((x.map(f64::to_bits), entities.clone()), target));
+                }
+            }
+            Err(e) => {
+                failed.get_or_insert(e);
+            }
+        }
+    }
+    cache.keep_snaps(kept_snaps, new_snaps);
+    if let Some(e) = failed {
+        return Err(e);
     }
     Ok(BoundaryAssociation {
         facet_entity,

@@ -688,8 +688,8 @@ fn where_parts_touch_facets_go_to_the_same_faces_whatever_the_round_off_and_orde
 }
 
 /// The association of a mesh, and of the mesh with edges split, is the same with the
-/// distances kept from an earlier association as without; only the vertices not seen
-/// before are measured, and another tolerance measures them all again.
+/// distances kept from an earlier association as without; only the vertices and facet
+/// centres not seen before are measured, and another tolerance measures them all again.
 #[test]
 fn associations_reusing_kept_distances_are_the_same_as_without() {
     use crate::{associate_boundary_reusing, ProximityCache};
@@ -713,18 +713,45 @@ fn associations_reusing_kept_distances_are_the_same_as_without() {
     let on_boundary = positions(&mesh, &fresh);
     assert!(on_boundary < fresh.vertex_targets.len());
     assert_eq!(cache.kept_rows(), on_boundary);
+    let centres = cache.kept_centres();
+    assert!(centres >= mesh.facets.len() / 2, "{centres}");
+    let same = associate_boundary_reusing(&mesh, &model, rule, None, &cache).expect("ok");
+    assert_eq!(same, fresh);
+    assert_eq!(
+        cache.kept_centres(),
+        centres,
+        "every centre measured before"
+    );
     // Cells' first edges split: new vertices inside, every boundary vertex where it was.
     let edges: Vec<[u32; 2]> = mesh.cells[..40]
         .iter()
-        .map(|c| [c.vertices[0].min(c.vertices[1]), c.vertices[0].max(c.vertices[1])])
+        .map(|c| {
+            [
+                c.vertices[0].min(c.vertices[1]),
+                c.vertices[0].max(c.vertices[1]),
+            ]
+        })
         .collect();
     let (split, count) = mesh.split_edges(&edges);
     assert!(count > 0);
     let again = associate_boundary_reusing(&split, &model, rule, None, &cache).expect("ok");
-    assert_eq!(again, associate_boundary(&split, &model, rule, None).expect("ok"));
-    assert!(positions(&split, &again) > on_boundary, "boundary edges split too");
+    assert_eq!(
+        again,
+        associate_boundary(&split, &model, rule, None).expect("ok")
+    );
+    assert!(
+        positions(&split, &again) > on_boundary,
+        "boundary edges split too"
+    );
     assert_eq!(cache.kept_rows(), positions(&split, &again));
     let other = associate_boundary_reusing(&mesh, &model, rule, Some(1e-3), &cache).expect("ok");
-    assert_eq!(other, associate_boundary(&mesh, &model, rule, Some(1e-3)).expect("ok"));
-    assert_eq!(cache.kept_rows(), on_boundary, "kept for another tolerance: cleared");
+    assert_eq!(
+        other,
+        associate_boundary(&mesh, &model, rule, Some(1e-3)).expect("ok")
+    );
+    assert_eq!(
+        cache.kept_rows(),
+        on_boundary,
+        "kept for another tolerance: cleared"
+    );
 }
