@@ -44,6 +44,7 @@
 //! alternating projections, which converge to the intersection where the two meet at an angle.
 
 use std::collections::{BTreeMap, HashMap};
+use std::hash::Hash;
 use std::sync::{Arc, Mutex};
 
 use hocurve_mesh::LinearMesh;
@@ -159,7 +160,10 @@ type SnapKey = ([u64; 3], Vec<usize>);
 /// by the centre's coordinates' bits and the entity's index.
 ///
 /// [`GeometricEntity::patch_distance`]: hocurve_nurbs::GeometricEntity::patch_distance
-type CentreDistances = HashMap<([u64; 3], u32), f64>;
+type CentreDistances = HashMap<CentreKey, f64>;
+
+/// A facet centre's coordinates' bits and an entity's index.
+type CentreKey = ([u64; 3], u32);
 
 /// A vertex's distance to each candidate entity (by position in the candidate list, ascending)
 /// whose patch is not provably beyond the tolerance; the others are infinitely far.
@@ -250,44 +254,29 @@ impl ProximityCache {
         found.into_iter().flatten().collect()
     }
 
-    /// The centres' distances kept (for the context of the last [`Self::enter`]), taken out
-    /// so that the facets read them in parallel without a lock; [`Self::keep_centres`]
-    /// puts them back with the new ones.
-    fn take_centres(&self) -> CentreDistances {
+    /// One of the maps kept (for the context of the last [`Self::enter`]: `which` picks
+    /// it), taken out so that a parallel loop reads it without a lock; [`Self::put_back`]
+    /// returns it with the new entries.
+    fn take<K, V>(
+        &self,
+        which: impl FnOnce(&mut KeptDistances) -> &mut HashMap<K, V>,
+    ) -> HashMap<K, V> {
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        std::mem::take(&mut kept.centres)
+        std::mem::take(which(&mut kept))
     }
 
-    /// Puts back the centres' distances taken by [`Self::take_centres`], with `new` ones
-    /// while there is room.
-    fn keep_centres(&self, mut centres: CentreDistances, new: Vec<(([u64; 3], u32), f64)>) {
+    /// Returns the map taken by [`Self::take`] with `new` entries while there is room.
+    fn put_back<K: Eq + Hash, V>(
+        &self,
+        which: impl FnOnce(&mut KeptDistances) -> &mut HashMap<K, V>,
+        mut taken: HashMap<K, V>,
+        new: Vec<(K, V)>,
+    ) {
         let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        for (key, d) in new {
-            if kept.entries < KEPT_DISTANCES {
-                kept.entries += 1;
-                centres.insert(key, d);
-            }
-        }
-        kept.centres = centres;
-    }
-
-    /// The snapped vertices kept, taken out as [`Self::take_centres`] does.
-    fn take_snaps(&self) -> Snaps {
-        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        std::mem::take(&mut kept.snaps)
-    }
-
-    /// Puts back the snapped vertices taken by [`Self::take_snaps`], with `new` ones while
-    /// there is room.
-    fn keep_snaps(&self, mut snaps: Snaps, new: Vec<(SnapKey, [f64; 3])>) {
-        let mut kept = self.kept.lock().unwrap_or_else(|e| e.into_inner());
-        for (key, x) in new {
-            if kept.entries < KEPT_DISTANCES {
-                kept.entries += 1;
-                snaps.insert(key, x);
-            }
-        }
-        kept.snaps = snaps;
+        let room = KEPT_DISTANCES.saturating_sub(kept.entries);
+        kept.entries += new.len().min(room);
+        taken.extend(new.into_iter().take(room));
+        *which(&mut kept) = taken;
     }
 }
 
@@ -381,8 +370,8 @@ pub fn associate_boundary_reusing(
         };
         // Facet by facet in parallel: each scores its candidates by a point inversion of
         // its centre (unless kept), independently of the others.
-        let kept_centres = cache.take_centres();
-        type Scored = (Ranking, Vec<(([u64; 3], u32), f64)>);
+        let kept_centres = cache.take(|k| &mut k.centres);
+        type Scored = (Ranking, Vec<(CentreKey, f64)>);
         let scored_facets: Vec<Scored> = mesh
             .facets
             .par_iter()
@@ -474,7 +463,7 @@ pub fn associate_boundary_reusing(
                 ranking
             })
             .collect();
-        cache.keep_centres(kept_centres, new_centres);
+        cache.put_back(|k| &mut k.centres, kept_centres, new_centres);
         // A facet between equally near entities goes with its mesh entity (a mesh generator
         // meshes each CAD face as one entity): to the entity within reach of every facet of
         // it — the nearest to all their vertices where several are (one face for all, so
@@ -556,7 +545,7 @@ pub fn associate_boundary_reusing(
         .map(|(v, e)| (*v, e.clone()))
         .collect();
     // (A vertex snapped before, onto the same entities, was within the tolerance of each.)
-    let kept_snaps = cache.take_snaps();
+    let kept_snaps = cache.take(|k| &mut k.snaps);
     type Snapped = Result<(u32, [f64; 3], f64, bool), GeodesicError>;
     let snapped: Vec<Snapped> = work
         .par_iter()
@@ -601,7 +590,7 @@ pub fn associate_boundary_reusing(
             }
         }
     }
-    cache.keep_snaps(kept_snaps, new_snaps);
+    cache.put_back(|k| &mut k.snaps, kept_snaps, new_snaps);
     if let Some(e) = failed {
         return Err(e);
     }
