@@ -603,10 +603,10 @@ fn curve_mesh_once<'g>(
     if !corrected.is_empty() {
         let mut plain = placement.clone();
         plain.uncorrected_edges.extend(corrected.iter().copied());
-        // The curvings with fewer corrections differ near the corrected edges only: CG
-        // starts from the displacement with all of them.
-        let (without, without_quality) =
-            curve_with(&plain, &attempt.solved_displacement, &mut timings)?;
+        // Without corrections, CG starts from zero: the curving is then the one
+        // `--min-angle 0` gives, bit for bit, which the choice below never falls short of
+        // (beyond round-off).
+        let (without, without_quality) = curve_with(&plain, &[], &mut timings)?;
         let losers = corrections_not_helping(
             &attempt.mesh,
             &corrected,
@@ -616,6 +616,8 @@ fn curve_mesh_once<'g>(
         if !losers.is_empty() && losers.len() < corrected.len() {
             let mut some = placement.clone();
             some.uncorrected_edges.extend(losers.iter().copied());
+            // With the helpful corrections only: near the undone edges alone does it
+            // differ from the curving with all, where CG starts.
             (attempt, quality) = curve_with(&some, &attempt.solved_displacement, &mut timings)?;
             undone_corrections = losers.len();
         }
