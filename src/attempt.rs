@@ -58,15 +58,12 @@ fn solver_options(options: &SolverOptions, mesh: &HighOrderMesh) -> SolverOption
 
 /// Where an [`Attempt`]'s boundary nodes come from (`'g` the geometry's lifetime).
 pub(crate) enum Boundary<'a, 'g> {
-    /// Placed on the geometry with these options, feature curves reused from `traces`; CG
-    /// started from `initial` (an earlier attempt's [`Attempt::solved_displacement`] with
-    /// other placement options) unless empty.
+    /// Placed on the geometry with these options, feature curves reused from `traces`.
     Place {
         geometry: Geometry<'g>,
         association: &'a hocurve_geodesic::BoundaryAssociation,
         placement: &'a PlacementOptions,
         traces: &'a FeatureTraces<'g>,
-        initial: &'a [[f64; 3]],
     },
     /// Placed already (by an earlier attempt); the solid stiffened cell by cell, CG started
     /// from `initial` (the earlier attempt's [`Attempt::solved_displacement`]) unless empty.
@@ -158,7 +155,6 @@ impl Attempt {
                 association,
                 placement,
                 traces,
-                initial,
             } => {
                 progress(Progress::Step(Step::BoundaryNodes));
                 let t = Instant::now();
@@ -174,8 +170,7 @@ impl Attempt {
                     && !options.boundary_only
                     && crate::repair::has_boundary_layer(straight, &targets.targets)?;
                 layer_stiffening = layered.then(|| crate::repair::jacobian_stiffening(straight));
-                let initial = (initial.len() == straight.nodes.len()).then_some(initial);
-                (targets, layer_stiffening.as_deref(), initial)
+                (targets, layer_stiffening.as_deref(), None)
             }
             Boundary::Stiffened {
                 targets,
