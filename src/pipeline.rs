@@ -545,7 +545,9 @@ fn curve_mesh_once<'g>(
         } else {
             Vec::new()
         };
-        let (split, count) = linear.split_edges_at(&rims);
+        // Each split is kept only if the cells it makes stay the right way round: two rim
+        // splits in one tetrahedron, each fair alone (`fair_splits`), can fold it together.
+        let (split, count) = linear.split_edges_keeping_orientation(&rims);
         if count > 0 {
             rim_split = split;
             linear = &rim_split;

@@ -336,6 +336,32 @@ fn a_facet_closed_by_a_vertex_on_a_rims_tangent_opens_within_its_plane() {
     }
 }
 
+/// Parts that interfere, meshed with Gmsh's default sizing (`pinned_plate` in
+/// `fixtures/make_cad_fixtures.py`: a pin through a plate's hole and through a collar's
+/// solid, three volumes not fused): tetrahedra of the coarse pin have two facet edges
+/// opposite rim corners, each split on the surface fair alone. Splitting both folded a
+/// tetrahedron (signed Jacobian −1e-3), refused as an inverted input element at every
+/// order; each split is now kept only if its cells stay the right way round.
+#[test]
+fn rim_splits_that_fold_a_cell_together_are_not_made() {
+    let dir = tempfile::tempdir().unwrap();
+    for ext in ["step", "igs"] {
+        let inputs = fixture_inputs("pinned_plate", ext);
+        let outputs = mesh_only(dir.path().join(format!("pinned_plate_{ext}.msh")));
+        let finished = curve_and_write(&inputs, &options(2), &outputs, &mut |_| {})
+            .unwrap_or_else(|e| panic!("{ext}: {e}"));
+        assert!(finished.defects.is_empty(), "{ext}: {:?}", finished.defects);
+        let r = &finished.curved.report;
+        assert!(r.surface_edges_split > 0, "{ext}: no rim was split");
+        assert_eq!(r.certified_valid_elements, Some(r.elements), "{ext}");
+        assert!(
+            r.max_geometry_distance < 1e-12,
+            "{ext}: {:e}",
+            r.max_geometry_distance
+        );
+    }
+}
+
 /// A block with small rounded edges meshed by Gmsh's default sizing
 /// (`fixtures/make_cad_fixtures.py`): its quarter-round rims have two segments, and end faces
 /// get triangles through an arc's two ends and its middle. Such a facet has every vertex on

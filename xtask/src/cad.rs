@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 29] = [
+const CASES: [Case; 30] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -247,6 +247,16 @@ const CASES: [Case; 29] = [
     // An assembly whose parts touch: coincident faces of different parts, coaxial bores.
     Case {
         name: "bolted_plate",
+        geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // Parts that interfere (a pin through a plate's hole and a collar's solid), Gmsh's
+    // default sizing: rim splits that fold a pin's cell together.
+    Case {
+        name: "pinned_plate",
         geometry: "step",
         group: "wall",
         full_only: false,
