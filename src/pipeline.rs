@@ -39,7 +39,8 @@ use crate::correction_choice::{
 };
 use crate::precurving::{
     cells_with_doubly_curved_edges, edges_opposite_doubly_curved_corners,
-    facet_edges_opposite_rim_corners, quadrilateral_corners_on_one_entity,
+    facet_edges_opposite_doubly_curved_corners, facet_edges_opposite_rim_corners,
+    quadrilateral_corners_on_one_entity,
 };
 
 /// Errors of the curving pipeline: one step's error, or a problem with the request.
@@ -500,6 +501,7 @@ fn curve_mesh_once<'g>(
     let split_input: LinearMesh;
     let quad_split: LinearMesh;
     let rim_split: LinearMesh;
+    let across_split: LinearMesh;
     let mut split_edges = 0;
     let mut surface_edges_split = 0;
     let mut quadrilaterals_split = 0;
@@ -553,6 +555,18 @@ fn curve_mesh_once<'g>(
             linear = &rim_split;
             found = associate(linear)?;
             surface_edges_split = count;
+        }
+        let across = if curving {
+            facet_edges_opposite_doubly_curved_corners(linear, &found, geometry.model)
+        } else {
+            Vec::new()
+        };
+        let (split, count) = linear.split_edges_keeping_orientation(&across);
+        if count > 0 {
+            across_split = split;
+            linear = &across_split;
+            found = associate(linear)?;
+            surface_edges_split += count;
         }
         let edges = if curving {
             edges_opposite_doubly_curved_corners(linear, &found, geometry.model)

@@ -100,13 +100,97 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
     association: &hocurve_geodesic::BoundaryAssociation,
     model: &hocurve_nurbs::GeometryModel,
 ) -> Vec<[u32; 2]> {
-    let facet_entity = facet_entities(linear, association);
     let on_a_facet = |a: u32, b: u32| {
         linear
             .facets
             .iter()
             .any(|f| f.vertices.contains(&a) && f.vertices.contains(&b))
     };
+    doubly_curved_corners(linear, association, model)
+        .into_iter()
+        .filter(|&[a, b]| !on_a_facet(a, b))
+        .collect()
+}
+
+/// The facet edges opposite a simplex's doubly curved corner (see
+/// [`edges_opposite_doubly_curved_corners`], which leaves them out), with the new vertex on
+/// the geometry: where every facet holding the edge lies on one curved entity, its midpoint
+/// moved onto that entity. A coarse rod (a cylinder meshed with four vertices round it)
+/// has tetrahedra with two facets on one half of it and the opposite edge — a diameter —
+/// on the facets of the other half: no node placement on the surface makes such a cell
+/// valid; split there, each half has one facet on the upper half. Splits that would leave a
+/// cell around the edge with less than a hundredth of its volume in either half are left
+/// out ([`fair_splits`]). Lower vertex id first, sorted.
+pub(crate) fn facet_edges_opposite_doubly_curved_corners(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+    model: &hocurve_nurbs::GeometryModel,
+) -> Vec<([u32; 2], Option<[f64; 3]>)> {
+    let mut entities_of: BTreeMap<[u32; 2], BTreeSet<Option<usize>>> = BTreeMap::new();
+    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
+        let n = f.vertices.len();
+        for k in 0..n {
+            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+            entities_of
+                .entry([a.min(b), a.max(b)])
+                .or_default()
+                .insert(*e);
+        }
+    }
+    let mut positions: BTreeMap<[u32; 2], [f64; 3]> =
+        doubly_curved_corners(linear, association, model)
+            .into_iter()
+            .filter_map(|edge| {
+                let entities = entities_of.get(&edge)?;
+                let (&Some(entity), 1) = (entities.first()?, entities.len()) else {
+                    return None;
+                };
+                let (pa, pb) = (
+                    linear.vertices[edge[0] as usize],
+                    linear.vertices[edge[1] as usize],
+                );
+                Some((
+                    edge,
+                    midpoint_on_surface(model.entities.get(entity)?, pa, pb)?,
+                ))
+            })
+            .collect();
+    fair_splits(linear, &mut positions, 1e-2);
+    positions.into_iter().map(|(e, q)| (e, Some(q))).collect()
+}
+
+/// The middle of the geodesic between `a` and `b` (points of it) on the surface `entity`:
+/// where the curved facet edge's midpoint is placed. Not the point nearest the chord's
+/// midpoint, which across half a cylinder is its axis, as near every point of the face
+/// (the search lands on a corner). None for a curve.
+fn midpoint_on_surface(
+    entity: &hocurve_nurbs::GeometricEntity,
+    a: [f64; 3],
+    b: [f64; 3],
+) -> Option<[f64; 3]> {
+    let hocurve_nurbs::EntityGeometry::Surface(surface) = &entity.geometry else {
+        return None;
+    };
+    let chart = hocurve_geodesic::SurfaceChart::new(surface);
+    let (ua, ub) = chart.path_ends(entity.closest_point(a).param, entity.closest_point(b).param);
+    let path = hocurve_geodesic::GeodesicPath::between(&chart, ua, ub, GEODESIC_TOLERANCE);
+    let (_, x) = path.at_fraction(&chart, 0.5);
+    // A closed form (cylinder, sphere...) has the exact point.
+    Some(entity.nearest_point(x))
+}
+
+/// Relative length tolerance of [`midpoint_on_surface`]'s geodesic (the placement's).
+const GEODESIC_TOLERANCE: f64 = 1e-10;
+
+/// The edges opposite the corner two facets of a triangle or tetrahedron share when those
+/// facets lie on one curved entity, or on two that meet tangentially there (see
+/// [`edges_opposite_doubly_curved_corners`]). Lower vertex id first, sorted.
+fn doubly_curved_corners(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+    model: &hocurve_nurbs::GeometryModel,
+) -> BTreeSet<[u32; 2]> {
+    let facet_entity = facet_entities(linear, association);
     let mut edges = BTreeSet::new();
     for cell in &linear.cells {
         if !matches!(
@@ -140,13 +224,11 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
                 // Facets i and j share every vertex but i and j: the edge (i, j) is opposite
                 // their common corner (an edge in a tetrahedron, a vertex in a triangle).
                 let (a, b) = (cell.vertices[i], cell.vertices[j]);
-                if !on_a_facet(a, b) {
-                    edges.insert([a.min(b), a.max(b)]);
-                }
+                edges.insert([a.min(b), a.max(b)]);
             }
         }
     }
-    edges.into_iter().collect()
+    edges
 }
 
 /// The largest angle (degrees) between two entities across their common edge (vertex, in

@@ -141,7 +141,8 @@ pub struct CurveReport {
     pub quadrilaterals_split: usize,
     /// Boundary edges split before curving, the new vertex on their surface: the third edge
     /// of a facet whose other two lie on one feature curve (a coarsely split rim), which
-    /// would meet at 180° once curved.
+    /// would meet at 180° once curved; and a facet edge opposite the edge where two facets
+    /// of a tetrahedron on one curved surface meet (a diameter of a coarse rod).
     pub surface_edges_split: usize,
     /// Mesh edges where curved faces meet (on two or more surfaces) placed on the model's
     /// own curve there: a CAD edge of a STEP model, or a curve entity.

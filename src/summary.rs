@@ -122,7 +122,7 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
     }
     if r.surface_edges_split > 0 {
         adjustments.push(format!(
-            "{} surface edge(s) split (facets with two edges on one feature curve)",
+            "{} surface edge(s) split (facets with two edges on one feature curve, or opposite two facets of a cell on one curved surface)",
             r.surface_edges_split
         ));
     }

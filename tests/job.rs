@@ -362,6 +362,40 @@ fn rim_splits_that_fold_a_cell_together_are_not_made() {
     }
 }
 
+/// A rod whose side is two half-cylinder faces, meshed with a handful of vertices round it
+/// (`coarse_rod` in `fixtures/make_cad_fixtures.py`; as1_pe_203.stp's rods): tetrahedra
+/// across it have two facets on one half sharing an edge, det J = 0 along it whatever the
+/// surface nodes do, and the opposite edge — a diameter — on a facet of the other half, so
+/// it cannot be split at its straight midpoint (the axis). Split at its geodesic midpoint
+/// on that half, every element certifies at p = 2..5 (`cargo xtask cad`); before, 2
+/// elements stayed invalid at p = 3..5 from the STEP file and 20–22 from the IGES file.
+#[test]
+fn a_diameter_opposite_a_doubly_curved_corner_is_split_on_its_surface() {
+    let dir = tempfile::tempdir().unwrap();
+    for (ext, order) in [("step", 3), ("igs", 3)] {
+        let inputs = fixture_inputs("coarse_rod", ext);
+        let outputs = mesh_only(dir.path().join(format!("coarse_rod_{ext}{order}.msh")));
+        let finished = curve_and_write(&inputs, &options(order), &outputs, &mut |_| {})
+            .unwrap_or_else(|e| panic!("{ext} p = {order}: {e}"));
+        assert!(finished.defects.is_empty(), "{ext}: {:?}", finished.defects);
+        let r = &finished.curved.report;
+        assert!(
+            r.surface_edges_split > 0,
+            "{ext} p = {order}: nothing split on the surface"
+        );
+        assert_eq!(
+            r.certified_valid_elements,
+            Some(r.elements),
+            "{ext} p = {order}"
+        );
+        assert!(
+            r.max_geometry_distance < 1e-12,
+            "{ext}: {:e}",
+            r.max_geometry_distance
+        );
+    }
+}
+
 /// A block with small rounded edges meshed by Gmsh's default sizing
 /// (`fixtures/make_cad_fixtures.py`): its quarter-round rims have two segments, and end faces
 /// get triangles through an arc's two ends and its middle. Such a facet has every vertex on

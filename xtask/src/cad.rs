@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 30] = [
+const CASES: [Case; 31] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -257,6 +257,16 @@ const CASES: [Case; 30] = [
     // default sizing: rim splits that fold a pin's cell together.
     Case {
         name: "pinned_plate",
+        geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // A rod of two half-cylinder faces with a handful of vertices round it: diameters
+    // opposite doubly curved corners, split on the geometry.
+    Case {
+        name: "coarse_rod",
         geometry: "step",
         group: "wall",
         full_only: false,
