@@ -114,11 +114,12 @@ pub(crate) fn edges_opposite_doubly_curved_corners(
 
 /// The facet edges opposite a simplex's doubly curved corner (see
 /// [`edges_opposite_doubly_curved_corners`], which leaves them out), with the new vertex on
-/// the geometry: where every facet holding the edge lies on one curved entity, its midpoint
-/// moved onto that entity. A coarse rod (a cylinder meshed with four vertices round it)
-/// has tetrahedra with two facets on one half of it and the opposite edge — a diameter —
-/// on the facets of the other half: no node placement on the surface makes such a cell
-/// valid; split there, each half has one facet on the upper half. Splits that would leave a
+/// the geometry: where every facet holding the edge lies on one surface entity, at the
+/// middle of the geodesic between its ends on it. A coarse rod (a cylinder meshed with a
+/// handful of vertices round it) has tetrahedra with two facets on one half of it and the
+/// opposite edge — a diameter — on the facets of the other half: no node placement on the
+/// surface makes such a cell valid; split there, each half keeps one of the two facets
+/// (`coarse_rod` in `fixtures/make_cad_fixtures.py`). Splits that would leave a
 /// cell around the edge with less than a hundredth of its volume in either half are left
 /// out ([`fair_splits`]). Lower vertex id first, sorted.
 pub(crate) fn facet_edges_opposite_doubly_curved_corners(
