@@ -15,7 +15,11 @@
 //! basis when built, and a node set that is not a tensor product keeps the dense path.
 //! Each sum runs over B outputs side by side (one AVX2 register: 4 in f64, 8 in f32) —
 //! base nodes t for A and C, base points q for the gradients — for every component at once,
-//! so the modes are ordered line point first (j q_b + q).
+//! so the modes are ordered line point first (j q_b + q). A last block that would leave
+//! half a register or more empty runs on a register of half the width (the prism's 12
+//! points at p = 3 are 8 + 4 lanes, not 16), and the transpose takes two blocks of nodes
+//! per pass so that each mode broadcast serves both: the same operations on each lane,
+//! so the same bits.
 
 use hocurve_nodes::{ReferenceElement, Shape};
 
@@ -61,8 +65,7 @@ pub(crate) struct ExtrudedFactors {
 #[derive(Debug, Clone)]
 pub(crate) struct FactorTables<T> {
     block: usize,
-    /// n_b and q_b rounded up to whole blocks.
-    nb_padded: usize,
+    /// q_b rounded up to whole blocks.
     qb_padded: usize,
     /// The rule's weight of point (q, j) at `j q_b' + q` (q_b' = q_b padded).
     weight: Vec<T>,
@@ -104,7 +107,6 @@ impl<T: CellReal> FactorTables<T> {
         let to = |v: &[f64]| v.iter().map(|&x| T::of(x)).collect();
         FactorTables {
             block,
-            nb_padded,
             qb_padded,
             weight: padded,
             by_point,
@@ -351,39 +353,24 @@ impl ExtrudedFactors {
         }
         // U_d[α][(q, j)] = w Σ_t ∂_α φ_t(ξ̄_q) A[j][t][d] (α in the base), w Σ_t φ_t(ξ̄_q)
         // A′[j][t][d] along the line: a register of points q of every component at a time,
-        // so that each table row loaded serves D sums and D² sums run independently.
-        let row = D * b;
+        // so that each table row loaded serves D sums and D² sums run independently; the
+        // last block on a half register where that holds every point left.
         for j in 0..ql {
             let at = &a[j * span..][..nb * D];
             let at_prime = &a_prime[j * span..][..nb * D];
-            for (block, rows) in tables.by_point.chunks_exact(nb * row).enumerate() {
+            for (block, rows) in tables.by_point.chunks_exact(nb * D * b).enumerate() {
                 let q0 = block * b;
-                let mut acc = [[V::zero(); D]; D];
-                for (t, f) in rows.chunks_exact(row).enumerate() {
-                    // (Not `array::from_fn`: not always inlined, and a call spills every sum.)
-                    let mut fs = [V::zero(); D];
-                    for (alpha, lanes) in fs.iter_mut().enumerate() {
-                        *lanes = V::load(&f[alpha * b..]);
-                    }
-                    for (d, acc_d) in acc.iter_mut().enumerate() {
-                        let v = V::splat(at[t * D + d]);
-                        for alpha in 0..D - 1 {
-                            acc_d[alpha] = acc_d[alpha].plus_product(v, fs[alpha]);
-                        }
-                        let v_prime = V::splat(at_prime[t * D + d]);
-                        acc_d[D - 1] = acc_d[D - 1].plus_product(v_prime, fs[D - 1]);
-                    }
-                }
-                let w = V::load(&tables.weight[j * qbp + q0..]);
-                for (d, acc_d) in acc.iter().enumerate() {
-                    for (alpha, sums) in acc_d.iter().enumerate() {
-                        let out = &mut modes[d * stride + alpha * m + j * qb + q0..];
-                        if q0 + b <= qb {
-                            w.mul(*sums).store(out);
-                        } else {
-                            w.mul(*sums).store_first(out, qb - q0);
-                        }
-                    }
+                let points = PointBlock {
+                    rows,
+                    block: b,
+                    weight: &tables.weight[j * qbp + q0..],
+                    first: j * qb + q0,
+                    len: (qb - q0).min(b),
+                };
+                if points.len <= V::Half::WIDTH {
+                    points.gradients::<V::Half, D>(at, at_prime, modes, stride, m);
+                } else {
+                    points.gradients::<V, D>(at, at_prime, modes, stride, m);
                 }
             }
         }
@@ -405,7 +392,14 @@ impl ExtrudedFactors {
         let tables = <V::Real as CellReal>::extruded_tables(self);
         let b = V::WIDTH;
         assert_eq!(tables.block, b, "the tables' block");
-        let nbp = tables.nb_padded;
+        // Base nodes rounded up to whole blocks, the last to a half one where that holds it.
+        let half = V::Half::WIDTH;
+        let nbp = nb / b * b
+            + match nb % b {
+                0 => 0,
+                r if r <= half => half,
+                _ => b,
+            };
         let m = qb * ql;
         let ExtrudedScratch {
             a: c,
@@ -426,45 +420,40 @@ impl ExtrudedFactors {
                     *v_da = &modes[d * stride + alpha * m + j * qb..][..qb];
                 }
             }
-            for (block, rows) in tables.by_node.chunks_exact(qb * row).enumerate() {
-                let t0 = block * b;
-                let mut s = [V::zero(); D];
-                let mut s_prime = [V::zero(); D];
-                for (q, f) in rows.chunks_exact(row).enumerate().take(qb) {
-                    // (Not `array::from_fn`: not always inlined, and a call spills every sum.)
-                    let mut fs = [V::zero(); D];
-                    for (alpha, lanes) in fs.iter_mut().enumerate() {
-                        *lanes = V::load(&f[alpha * b..]);
+            // Two blocks at a time, so that each mode broadcast serves both.
+            let mut blocks = tables.by_node.chunks_exact(qb * row);
+            let mut t0 = 0;
+            while let Some(rows) = blocks.next() {
+                let out = NodeBlocks {
+                    block: b,
+                    qb,
+                    nbp,
+                    at: j * D * nbp + t0,
+                };
+                match blocks.next() {
+                    None if nb - t0 <= half => {
+                        out.pair::<V::Half, V::Half, D, false>(rows, rows, &v, c, c_prime)
                     }
-                    for (alpha, &f) in fs.iter().enumerate().take(D - 1) {
-                        for (d, sums) in s.iter_mut().enumerate() {
-                            *sums = sums.plus_product(V::splat(v[d][alpha][q]), f);
-                        }
+                    None => out.pair::<V, V, D, false>(rows, rows, &v, c, c_prime),
+                    Some(next) if nb - t0 - b <= half => {
+                        out.pair::<V, V::Half, D, true>(rows, next, &v, c, c_prime)
                     }
-                    for (d, sums) in s_prime.iter_mut().enumerate() {
-                        *sums = sums.plus_product(V::splat(v[d][D - 1][q]), fs[D - 1]);
-                    }
+                    Some(next) => out.pair::<V, V, D, true>(rows, next, &v, c, c_prime),
                 }
-                for d in 0..D {
-                    s[d].store(&mut c[(j * D + d) * nbp + t0..]);
-                    s_prime[d].store(&mut c_prime[(j * D + d) * nbp + t0..]);
-                }
+                t0 += 2 * b;
             }
         }
         // Yᵀ[l][d][t] = Σ_j ψ_l(ζ_j) C[j][d][t] + ψ′_l(ζ_j) C′[j][d][t].
         let span = D * nbp;
         resized(yt, nl * span);
         for l in 0..nl {
-            for k0 in (0..span).step_by(b) {
-                let mut s = V::zero();
-                for j in 0..ql {
-                    let f = V::splat(tables.line_value[l * ql + j]);
-                    let g = V::splat(tables.line_deriv[l * ql + j]);
-                    let cs = V::load(&c[j * span + k0..]);
-                    let cps = V::load(&c_prime[j * span + k0..]);
-                    s = s.add(f.mul(cs).add(g.mul(cps)));
-                }
-                s.store(&mut yt[l * span + k0..]);
+            let mut k0 = 0;
+            while k0 + b <= span {
+                line_block::<V>(tables, ql, l, c, c_prime, yt, span, k0);
+                k0 += b;
+            }
+            if k0 < span {
+                line_block::<V::Half>(tables, ql, l, c, c_prime, yt, span, k0);
             }
         }
         // Y_d(t, l) into the cell's node order.
@@ -477,6 +466,165 @@ impl ExtrudedFactors {
             }
         }
     }
+}
+
+/// One block of base points of [`ExtrudedFactors::gradients`]: the table's rows of its
+/// points (every node t, every direction α, `block` lanes each), the weights from its
+/// first point, its first mode (j q_b + q0) and how many of its lanes are points.
+struct PointBlock<'a, T> {
+    rows: &'a [T],
+    block: usize,
+    weight: &'a [T],
+    first: usize,
+    len: usize,
+}
+
+impl<T: CellReal> PointBlock<'_, T> {
+    /// The block's gradient modes on registers W (of at most `block` lanes; the first
+    /// W::WIDTH of each row).
+    #[inline(always)]
+    fn gradients<W: Lanes<Real = T>, const D: usize>(
+        &self,
+        at: &[T],
+        at_prime: &[T],
+        modes: &mut [T],
+        stride: usize,
+        m: usize,
+    ) {
+        let b = self.block;
+        let mut acc = [[W::zero(); D]; D];
+        for (t, f) in self.rows.chunks_exact(D * b).enumerate() {
+            // (Not `array::from_fn`: not always inlined, and a call spills every sum.)
+            let mut fs = [W::zero(); D];
+            for (alpha, lanes) in fs.iter_mut().enumerate() {
+                *lanes = W::load(&f[alpha * b..]);
+            }
+            for (d, acc_d) in acc.iter_mut().enumerate() {
+                let v = W::splat(at[t * D + d]);
+                for alpha in 0..D - 1 {
+                    acc_d[alpha] = acc_d[alpha].plus_product(v, fs[alpha]);
+                }
+                let v_prime = W::splat(at_prime[t * D + d]);
+                acc_d[D - 1] = acc_d[D - 1].plus_product(v_prime, fs[D - 1]);
+            }
+        }
+        let w = W::load(self.weight);
+        for (d, acc_d) in acc.iter().enumerate() {
+            for (alpha, sums) in acc_d.iter().enumerate() {
+                let out = &mut modes[d * stride + alpha * m + self.first..];
+                if self.len == W::WIDTH {
+                    w.mul(*sums).store(out);
+                } else {
+                    w.mul(*sums).store_first(out, self.len);
+                }
+            }
+        }
+    }
+}
+
+/// Where one or two blocks of base nodes of [`ExtrudedFactors::transpose`] at line point
+/// j go: C and C′ of node t0 + i (component d) at `c[at + d nbp + i]`, the tables' rows
+/// `block` lanes wide.
+struct NodeBlocks {
+    block: usize,
+    qb: usize,
+    nbp: usize,
+    at: usize,
+}
+
+impl NodeBlocks {
+    /// C and C′ of the block of `rows` on registers W and, when TWO, of the next block
+    /// (`next`) on registers X, from the modes V_d[α][(·, j)]: the base directions' sums
+    /// first, then the line's, so that the sums and rows of both blocks fit in registers.
+    #[inline(always)]
+    fn pair<W: Lanes, X: Lanes<Real = W::Real>, const D: usize, const TWO: bool>(
+        &self,
+        rows: &[W::Real],
+        next: &[W::Real],
+        v: &[[&[W::Real]; D]; D],
+        c: &mut [W::Real],
+        c_prime: &mut [W::Real],
+    ) {
+        let (b, row) = (self.block, D * self.block);
+        let (mut s, mut s_next) = ([W::zero(); D], [X::zero(); D]);
+        for q in 0..self.qb {
+            for alpha in 0..D - 1 {
+                let f = W::load(&rows[q * row + alpha * b..]);
+                let f_next = if TWO {
+                    X::load(&next[q * row + alpha * b..])
+                } else {
+                    X::zero()
+                };
+                for d in 0..D {
+                    let mode = v[d][alpha][q];
+                    s[d] = s[d].plus_product(W::splat(mode), f);
+                    if TWO {
+                        s_next[d] = s_next[d].plus_product(X::splat(mode), f_next);
+                    }
+                }
+            }
+        }
+        self.store::<W, X, D, TWO>(s, s_next, c);
+        let (mut s, mut s_next) = ([W::zero(); D], [X::zero(); D]);
+        let last = (D - 1) * b;
+        for q in 0..self.qb {
+            let f = W::load(&rows[q * row + last..]);
+            let f_next = if TWO {
+                X::load(&next[q * row + last..])
+            } else {
+                X::zero()
+            };
+            for d in 0..D {
+                let mode = v[d][D - 1][q];
+                s[d] = s[d].plus_product(W::splat(mode), f);
+                if TWO {
+                    s_next[d] = s_next[d].plus_product(X::splat(mode), f_next);
+                }
+            }
+        }
+        self.store::<W, X, D, TWO>(s, s_next, c_prime);
+    }
+
+    #[inline(always)]
+    fn store<W: Lanes, X: Lanes<Real = W::Real>, const D: usize, const TWO: bool>(
+        &self,
+        s: [W; D],
+        s_next: [X; D],
+        to: &mut [W::Real],
+    ) {
+        for d in 0..D {
+            let at = self.at + d * self.nbp;
+            s[d].store(&mut to[at..]);
+            if TWO {
+                s_next[d].store(&mut to[at + self.block..]);
+            }
+        }
+    }
+}
+
+/// Yᵀ[l][k0..k0 + W::WIDTH] of [`ExtrudedFactors::transpose`]: Σ_j ψ_l(ζ_j) C[j] + ψ′_l(ζ_j)
+/// C′[j] on those lanes.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn line_block<W: Lanes>(
+    tables: &FactorTables<W::Real>,
+    ql: usize,
+    l: usize,
+    c: &[W::Real],
+    c_prime: &[W::Real],
+    yt: &mut [W::Real],
+    span: usize,
+    k0: usize,
+) {
+    let mut s = W::zero();
+    for j in 0..ql {
+        let f = W::splat(tables.line_value[l * ql + j]);
+        let g = W::splat(tables.line_deriv[l * ql + j]);
+        let cs = W::load(&c[j * span + k0..]);
+        let cps = W::load(&c_prime[j * span + k0..]);
+        s = s.add(f.mul(cs).add(g.mul(cps)));
+    }
+    s.store(&mut yt[l * span + k0..]);
 }
 
 /// `buffer` as `len` zeros, reusing its allocation.
@@ -496,7 +644,6 @@ impl<T: CellReal> FactorTables<T> {
     fn empty() -> Self {
         FactorTables {
             block: 1,
-            nb_padded: 0,
             qb_padded: 0,
             weight: Vec::new(),
             by_point: Vec::new(),

@@ -11,6 +11,9 @@ use crate::matrix_free::CellReal;
 /// `WIDTH` numbers of type `Real` side by side.
 pub(crate) trait Lanes: Copy {
     type Real: CellReal;
+    /// The register of half as many lanes (itself at one lane): the sums' last block when
+    /// no more than half of a whole one would be used.
+    type Half: Lanes<Real = Self::Real>;
     const WIDTH: usize;
     /// Every lane 0.
     fn zero() -> Self;
@@ -42,44 +45,52 @@ pub(crate) trait Lanes: Copy {
 #[derive(Clone, Copy)]
 pub(crate) struct Portable<T, const B: usize>([T; B]);
 
-impl<T: CellReal, const B: usize> Lanes for Portable<T, B> {
-    type Real = T;
-    const WIDTH: usize = B;
-    #[inline(always)]
-    fn zero() -> Self {
-        Portable([T::default(); B])
-    }
-    #[inline(always)]
-    fn splat(v: T) -> Self {
-        Portable([v; B])
-    }
-    #[inline(always)]
-    fn load(from: &[T]) -> Self {
-        let mut lanes = [T::default(); B];
-        lanes.copy_from_slice(&from[..B]);
-        Portable(lanes)
-    }
-    #[inline(always)]
-    fn store(self, to: &mut [T]) {
-        to[..B].copy_from_slice(&self.0);
-    }
-    #[inline(always)]
-    fn mul(self, other: Self) -> Self {
-        let mut lanes = self.0;
-        for (a, b) in lanes.iter_mut().zip(other.0) {
-            *a = *a * b;
+/// [`Lanes`] for [`Portable`] of each width the kernels use, its half the next one down.
+macro_rules! portable_lanes {
+    ($($b:literal => $half:literal),*) => {$(
+        impl<T: CellReal> Lanes for Portable<T, $b> {
+            type Real = T;
+            type Half = Portable<T, $half>;
+            const WIDTH: usize = $b;
+            #[inline(always)]
+            fn zero() -> Self {
+                Portable([T::default(); $b])
+            }
+            #[inline(always)]
+            fn splat(v: T) -> Self {
+                Portable([v; $b])
+            }
+            #[inline(always)]
+            fn load(from: &[T]) -> Self {
+                let mut lanes = [T::default(); $b];
+                lanes.copy_from_slice(&from[..$b]);
+                Portable(lanes)
+            }
+            #[inline(always)]
+            fn store(self, to: &mut [T]) {
+                to[..$b].copy_from_slice(&self.0);
+            }
+            #[inline(always)]
+            fn mul(self, other: Self) -> Self {
+                let mut lanes = self.0;
+                for (a, b) in lanes.iter_mut().zip(other.0) {
+                    *a = *a * b;
+                }
+                Portable(lanes)
+            }
+            #[inline(always)]
+            fn add(self, other: Self) -> Self {
+                let mut lanes = self.0;
+                for (a, b) in lanes.iter_mut().zip(other.0) {
+                    *a += b;
+                }
+                Portable(lanes)
+            }
         }
-        Portable(lanes)
-    }
-    #[inline(always)]
-    fn add(self, other: Self) -> Self {
-        let mut lanes = self.0;
-        for (a, b) in lanes.iter_mut().zip(other.0) {
-            *a += b;
-        }
-        Portable(lanes)
-    }
+    )*};
 }
+
+portable_lanes!(8 => 4, 4 => 2, 2 => 1, 1 => 1);
 
 #[cfg(target_arch = "x86_64")]
 pub(crate) use avx::{Avx2Double, Avx2Single};
@@ -101,10 +112,17 @@ mod avx {
     #[derive(Clone, Copy)]
     pub(crate) struct Avx2Single(__m256);
 
+    /// Two f64, four f32 in one SSE register: the halves of the above.
+    #[derive(Clone, Copy)]
+    pub(crate) struct SseDouble(__m128d);
+    #[derive(Clone, Copy)]
+    pub(crate) struct SseSingle(__m128);
+
     // SAFETY (every block below): the CPU has AVX2, hence AVX (see the module
     // documentation); loads and stores check their slice's length first.
     impl Lanes for Avx2Double {
         type Real = f64;
+        type Half = SseDouble;
         const WIDTH: usize = 4;
         #[inline(always)]
         fn zero() -> Self {
@@ -136,6 +154,7 @@ mod avx {
 
     impl Lanes for Avx2Single {
         type Real = f32;
+        type Half = SseSingle;
         const WIDTH: usize = 8;
         #[inline(always)]
         fn zero() -> Self {
@@ -162,6 +181,70 @@ mod avx {
         #[inline(always)]
         fn add(self, other: Self) -> Self {
             Avx2Single(unsafe { _mm256_add_ps(self.0, other.0) })
+        }
+    }
+
+    impl Lanes for SseDouble {
+        type Real = f64;
+        type Half = crate::lanes::Portable<f64, 1>;
+        const WIDTH: usize = 2;
+        #[inline(always)]
+        fn zero() -> Self {
+            SseDouble(unsafe { _mm_setzero_pd() })
+        }
+        #[inline(always)]
+        fn splat(v: f64) -> Self {
+            SseDouble(unsafe { _mm_set1_pd(v) })
+        }
+        #[inline(always)]
+        fn load(from: &[f64]) -> Self {
+            let from = &from[..2];
+            SseDouble(unsafe { _mm_loadu_pd(from.as_ptr()) })
+        }
+        #[inline(always)]
+        fn store(self, to: &mut [f64]) {
+            let to = &mut to[..2];
+            unsafe { _mm_storeu_pd(to.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
+        fn mul(self, other: Self) -> Self {
+            SseDouble(unsafe { _mm_mul_pd(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn add(self, other: Self) -> Self {
+            SseDouble(unsafe { _mm_add_pd(self.0, other.0) })
+        }
+    }
+
+    impl Lanes for SseSingle {
+        type Real = f32;
+        type Half = crate::lanes::Portable<f32, 2>;
+        const WIDTH: usize = 4;
+        #[inline(always)]
+        fn zero() -> Self {
+            SseSingle(unsafe { _mm_setzero_ps() })
+        }
+        #[inline(always)]
+        fn splat(v: f32) -> Self {
+            SseSingle(unsafe { _mm_set1_ps(v) })
+        }
+        #[inline(always)]
+        fn load(from: &[f32]) -> Self {
+            let from = &from[..4];
+            SseSingle(unsafe { _mm_loadu_ps(from.as_ptr()) })
+        }
+        #[inline(always)]
+        fn store(self, to: &mut [f32]) {
+            let to = &mut to[..4];
+            unsafe { _mm_storeu_ps(to.as_mut_ptr(), self.0) }
+        }
+        #[inline(always)]
+        fn mul(self, other: Self) -> Self {
+            SseSingle(unsafe { _mm_mul_ps(self.0, other.0) })
+        }
+        #[inline(always)]
+        fn add(self, other: Self) -> Self {
+            SseSingle(unsafe { _mm_add_ps(self.0, other.0) })
         }
     }
 }

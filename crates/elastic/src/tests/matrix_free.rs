@@ -246,7 +246,7 @@ fn curved_simplices_are_left_to_the_assembled_matrix() {
     assert!(!MatrixFreeStiffness::applies(&mesh));
 }
 
-/// CG's f64 action: the same bits with and without AVX2, on the dense path (tetrahedra)
+/// CG's f64 action and the smoothers' f32 one: the same bits with and without AVX2, on the dense path (tetrahedra)
 /// and the sum-factorised one (curved prisms and hexahedra, quadrilaterals), affine cells and
 /// cells with a Jacobian per point.
 #[test]
@@ -270,10 +270,15 @@ fn the_avx2_action_has_the_bits_of_the_portable_one() {
         let x = pseudo_random(constraints.len());
         let mut fast = vec![0.0; x.len()];
         operator.apply(&x, &mut fast);
+        let mut fast_single = vec![0.0; x.len()];
+        SinglePrecision(&operator).apply(&x, &mut fast_single);
         operator.avx2 = false;
         let mut portable = vec![0.0; x.len()];
         operator.apply(&x, &mut portable);
         assert_eq!(fast, portable, "p = {p}");
+        let mut portable_single = vec![0.0; x.len()];
+        SinglePrecision(&operator).apply(&x, &mut portable_single);
+        assert_eq!(fast_single, portable_single, "f32, p = {p}");
     }
 }
 
