@@ -40,7 +40,7 @@ use crate::correction_choice::{
 use crate::precurving::{
     cells_with_doubly_curved_edges, edges_opposite_doubly_curved_corners,
     facet_edges_opposite_doubly_curved_corners, facet_edges_opposite_rim_corners,
-    quadrilateral_corners_on_one_entity,
+    flat_corner_splits, quadrilateral_corners_on_one_entity,
 };
 
 /// Errors of the curving pipeline: one step's error, or a problem with the request.
@@ -252,14 +252,56 @@ pub fn curve_mesh(
 ) -> Result<CurvedMesh, CurveError> {
     // Before the association, whose "nothing on the geometry" would hide the reason.
     linear.check_planar()?;
-    refine_and_curve(
+    let start = Instant::now();
+    let kept = Kept::default();
+    let curved = refine_and_curve(
         linear,
         geometry,
         options,
         progress,
         REFINEMENT_ROUNDS,
-        &Kept::default(),
-    )
+        &kept,
+    )?;
+    // Each curving keeps a correction only where it certifies better, but the refinement
+    // rounds then split the cells that curving left poor: a path that --min-angle 0 does
+    // not take, and may end certified (slightly) better. Where corrections were kept and
+    // the mesh refined, that path is taken too and the better result kept.
+    if curved.report.refinement_rounds == 0 || curved.report.corrected_edges == 0 {
+        return Ok(curved);
+    }
+    let mut plain_options = options.clone();
+    plain_options.placement.min_angle_degrees = None;
+    let Ok(mut plain) = refine_and_curve(
+        linear,
+        geometry,
+        &plain_options,
+        progress,
+        REFINEMENT_ROUNDS,
+        &kept,
+    ) else {
+        return Ok(curved);
+    };
+    let score = |c: &CurvedMesh| {
+        let minimum = certified_scaled_jacobians(&c.quality)
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        (crate::repair::not_certified(&c.quality).len(), minimum)
+    };
+    let (with, without) = (score(&curved), score(&plain));
+    if without.0 < with.0 || (without.0 == with.0 && without.1 > with.1) {
+        // Every correction was tried and undone; the discarded curving is repair work.
+        plain.report.corrections_undone =
+            curved.report.corrected_edges + curved.report.corrections_undone;
+        plain.report.small_angle_edges = curved.report.small_angle_edges;
+        plain.report.min_edge_angle_degrees = curved.report.min_edge_angle_degrees;
+        plain.report.timings.repair += curved.report.timings.total;
+        plain.report.timings.total = start.elapsed().as_secs_f64();
+        return Ok(plain);
+    }
+    let mut curved = curved;
+    curved.report.timings.repair += plain.report.timings.total;
+    curved.report.timings.total = start.elapsed().as_secs_f64();
+    Ok(curved)
 }
 
 /// What the curvings of one run on one model share: every association (after each split,
@@ -502,6 +544,7 @@ fn curve_mesh_once<'g>(
     let quad_split: LinearMesh;
     let rim_split: LinearMesh;
     let across_split: LinearMesh;
+    let flat_split: LinearMesh;
     let mut split_edges = 0;
     let mut surface_edges_split = 0;
     let mut quadrilaterals_split = 0;
@@ -577,11 +620,26 @@ fn curve_mesh_once<'g>(
         if count > 0 {
             split_input = split;
             linear = &split_input;
-            association = Some((geometry, associate(linear)?));
+            found = associate(linear)?;
             split_edges = count;
-        } else {
-            association = Some((geometry, found));
         }
+        // Then the corners that curving flattens whatever facets their cell has (a vertex
+        // on a fillet's tangent edge whose three edges lie on the fillet and its face).
+        if curving {
+            let flat = flat_corner_splits(linear, &found, geometry.model);
+            // Splitting one edge of a cell leaves its other edges whole: the facet edges
+            // are still there once the edges through the domain are split.
+            let (split, through) = linear.split_edges_keeping_orientation(&flat.through);
+            let (split, on_surface) = split.split_edges_keeping_orientation(&flat.on_surface);
+            if through + on_surface > 0 {
+                flat_split = split;
+                linear = &flat_split;
+                found = associate(linear)?;
+                split_edges += through;
+                surface_edges_split += on_surface;
+            }
+        }
+        association = Some((geometry, found));
         if let (Some((_, found)), true) = (&association, curving) {
             doubly_curved_cells = cells_with_doubly_curved_edges(linear, found);
         }

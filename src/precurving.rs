@@ -1,6 +1,8 @@
 //! Cells split before curving (beyond the paper): a cell with two facets (a quadrilateral
 //! with two edges) on one curved entity meeting at a corner opens to a 180° angle there
-//! once curved, with det J = 0 whatever the interior nodes do.
+//! once curved, with det J = 0 whatever the interior nodes do; so does a tetrahedron's
+//! corner whose three edges lie on curved facets with one tangent plane there
+//! ([`flat_corner_splits`]), whatever facets the cell itself has.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -565,6 +567,229 @@ pub(crate) fn longest_chord_of_each(linear: &LinearMesh, cells: &[usize]) -> Vec
     cells.iter().map(|&c| chord(c)).collect()
 }
 
+/// The corners of tetrahedra whose three edges in the cell all lie on curved facets, with
+/// what is left of each once curved, as a share of the straight corner: (cell, local
+/// vertex, share), the share the triple product of the unit directions in which the
+/// curved edges leave the vertex ([`curved_edge_direction`]) over that of the unit edge
+/// vectors. Zero or less where the facets' surfaces have one tangent plane at the vertex.
+pub(crate) fn flat_corners(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+    model: &hocurve_nurbs::GeometryModel,
+) -> Vec<(usize, usize, f64)> {
+    use hocurve_nurbs::vec3::{cross, dot, norm, scale, sub};
+    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
+    let mut edge_entities: BTreeMap<[u32; 2], BTreeSet<usize>> = BTreeMap::new();
+    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
+        let Some(e) = *e else {
+            continue;
+        };
+        let n = f.vertices.len();
+        for k in 0..n {
+            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+            edge_entities.entry(key(a, b)).or_default().insert(e);
+        }
+    }
+    let unit = |d: [f64; 3]| {
+        let n = norm(d);
+        (n > 0.0 && n.is_finite()).then(|| scale(d, 1.0 / n))
+    };
+    // The direction of each curved edge at its first end, once per directed edge.
+    let mut directions: BTreeMap<(u32, u32), Option<[f64; 3]>> = BTreeMap::new();
+    let mut out = Vec::new();
+    for (c, cell) in linear.cells.iter().enumerate() {
+        if cell.kind != hocurve_mesh::Shape::Tet || cell.vertices.len() != 4 {
+            continue;
+        }
+        let v = &cell.vertices;
+        let x = |k: usize| linear.vertices[v[k] as usize];
+        for k in 0..4 {
+            let others: Vec<usize> = (0..4).filter(|&j| j != k).collect();
+            let sets: Vec<&BTreeSet<usize>> = others
+                .iter()
+                .filter_map(|&j| edge_entities.get(&key(v[k], v[j])))
+                .collect();
+            if sets.len() < 3 {
+                continue;
+            }
+            let mut tangents = [[0.0; 3]; 3];
+            let mut chords = [[0.0; 3]; 3];
+            let mut ok = true;
+            for (i, (&j, set)) in others.iter().zip(&sets).enumerate() {
+                let tangent = *directions.entry((v[k], v[j])).or_insert_with(|| {
+                    let entities: Vec<usize> = set.iter().copied().collect();
+                    curved_edge_direction(model, &entities, x(k), x(j)).and_then(unit)
+                });
+                match (tangent, unit(sub(x(j), x(k)))) {
+                    (Some(t), Some(u)) => {
+                        tangents[i] = t;
+                        chords[i] = u;
+                    }
+                    _ => ok = false,
+                }
+            }
+            if !ok {
+                continue;
+            }
+            let det = |a: [[f64; 3]; 3]| dot(a[0], cross(a[1], a[2]));
+            let straight = det(chords);
+            if straight == 0.0 || !straight.is_finite() {
+                continue;
+            }
+            out.push((c, k, det(tangents) / straight));
+        }
+    }
+    out
+}
+
+/// Where the curved edge from `a` to `b` on `entities` (the entities of the facets holding
+/// it) leaves `a`: its tangent there, from the points P at a twentieth and a tenth of the
+/// way along its geodesic on one surface (or along the model's edge between several, or a
+/// step towards `b` snapped onto the entities where neither is found) by Richardson's
+/// extrapolation of the secants, 2 (P(h) − P(0))/h − (P(2h) − P(0))/(2h): second-order
+/// accurate, where one secant leaves a flat corner's share at a few hundredths. Not
+/// normalised.
+fn curved_edge_direction(
+    model: &hocurve_nurbs::GeometryModel,
+    entities: &[usize],
+    a: [f64; 3],
+    b: [f64; 3],
+) -> Option<[f64; 3]> {
+    const STEP: f64 = 0.05;
+    let extrapolated = |at: &dyn Fn(f64) -> Option<[f64; 3]>| {
+        let (start, near, far) = (at(0.0)?, at(STEP)?, at(2.0 * STEP)?);
+        Some(
+            [0, 1, 2]
+                .map(|i| 2.0 * (near[i] - start[i]) / STEP - (far[i] - start[i]) / (2.0 * STEP)),
+        )
+    };
+    if let [e] = entities {
+        let entity = model.entities.get(*e)?;
+        if let hocurve_nurbs::EntityGeometry::Surface(surface) = &entity.geometry {
+            let chart = hocurve_geodesic::SurfaceChart::new(surface);
+            let (ua, ub) = (entity.closest_point(a).param, entity.closest_point(b).param);
+            let path = hocurve_geodesic::GeodesicPath::between(&chart, ua, ub, GEODESIC_TOLERANCE);
+            return extrapolated(&|t| Some(path.at_fraction(&chart, t).1));
+        }
+    }
+    let on_edge = |t: f64| hocurve_geodesic::feature::point_on_model_edge(model, entities, a, b, t);
+    if let Some(d) = extrapolated(&on_edge) {
+        return Some(d);
+    }
+    let snap = |t: f64| {
+        let p = [0, 1, 2].map(|i| a[i] + t * (b[i] - a[i]));
+        Some(hocurve_geodesic::association::snap_onto(model, entities, p))
+    };
+    extrapolated(&snap)
+}
+
+/// What is left of a tetrahedron's corner once curved, as a share of the straight one,
+/// below which the corner counts as flat ([`flat_corner_splits`]): the Ĩ below which a
+/// certified cell is refined anyway ([`crate::pipeline::REFINE_BELOW`]).
+const FLAT_CORNER: f64 = crate::pipeline::REFINE_BELOW;
+
+/// The edges to split, with the new vertex's position, so that no tetrahedron keeps a
+/// corner that curving flattens: a vertex whose three edges in the cell all lie on curved
+/// facets of surfaces with one tangent plane there (one surface, or a fillet and the face
+/// it runs into), whatever facets the cell itself has. Curved, those edges leave the
+/// vertex in that plane, and det J there is the triple product of their directions — zero,
+/// or of either sign once the edges bend ([`flat_corners`] measures it against the
+/// straight corner's). Splitting an edge of the face opposite the vertex gives the vertex
+/// an edge into the domain in each half: an edge through the domain (at its midpoint)
+/// where that face has one, else a facet edge on one surface entity (at the middle of its
+/// geodesic). Splits that would leave a cell around the edge with less than a hundredth
+/// of its volume in either half are left out ([`fair_splits`]).
+pub(crate) fn flat_corner_splits(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+    model: &hocurve_nurbs::GeometryModel,
+) -> FlatCornerSplits {
+    let key = |a: u32, b: u32| [a.min(b), a.max(b)];
+    let mut entities_of: BTreeMap<[u32; 2], BTreeSet<Option<usize>>> = BTreeMap::new();
+    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
+        let n = f.vertices.len();
+        for k in 0..n {
+            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+            entities_of.entry(key(a, b)).or_default().insert(*e);
+        }
+    }
+    let length = |[a, b]: [u32; 2]| {
+        let (pa, pb) = (linear.vertices[a as usize], linear.vertices[b as usize]);
+        (0..3).map(|d| (pa[d] - pb[d]).powi(2)).sum::<f64>()
+    };
+    let mut positions: BTreeMap<[u32; 2], [f64; 3]> = BTreeMap::new();
+    for (c, k, share) in flat_corners(linear, association, model) {
+        if share >= FLAT_CORNER {
+            continue;
+        }
+        let v = &linear.cells[c].vertices;
+        let face: Vec<u32> = (0..4).filter(|&j| j != k).map(|j| v[j]).collect();
+        let mut through: Option<[u32; 2]> = None;
+        let mut on_surface: Option<([u32; 2], usize)> = None;
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            let e = key(face[i], face[j]);
+            // Ties go to the lower pair: the choice does not depend on the vertex order.
+            let longer = |best: [u32; 2]| {
+                length(e) > length(best) || (length(e) == length(best) && e < best)
+            };
+            match entities_of.get(&e) {
+                None => {
+                    if through.is_none_or(longer) {
+                        through = Some(e);
+                    }
+                }
+                Some(set) => {
+                    if let (Some(&Some(entity)), 1) = (set.first(), set.len()) {
+                        if on_surface.is_none_or(|(best, _)| longer(best)) {
+                            on_surface = Some((e, entity));
+                        }
+                    }
+                }
+            }
+        }
+        let ends = |e: [u32; 2]| {
+            (
+                linear.vertices[e[0] as usize],
+                linear.vertices[e[1] as usize],
+            )
+        };
+        let split = match (through, on_surface) {
+            (Some(e), _) => {
+                let (pa, pb) = ends(e);
+                Some((e, [0, 1, 2].map(|d| 0.5 * (pa[d] + pb[d]))))
+            }
+            (None, Some((e, entity))) => {
+                let (pa, pb) = ends(e);
+                model
+                    .entities
+                    .get(entity)
+                    .and_then(|entity| midpoint_on_surface(entity, pa, pb))
+                    .map(|q| (e, q))
+            }
+            (None, None) => None,
+        };
+        if let Some((e, q)) = split {
+            positions.insert(e, q);
+        }
+    }
+    fair_splits(linear, &mut positions, 1e-2);
+    let (through, on_surface): (Vec<_>, Vec<_>) = positions
+        .into_iter()
+        .map(|(e, q)| (e, Some(q)))
+        .partition(|(e, _)| !entities_of.contains_key(e));
+    FlatCornerSplits {
+        through,
+        on_surface,
+    }
+}
+
+/// The splits of [`flat_corner_splits`]: edges through the domain, and facet edges with
+/// the new vertex on their surface.
+pub(crate) struct FlatCornerSplits {
+    pub through: Vec<([u32; 2], Option<[f64; 3]>)>,
+    pub on_surface: Vec<([u32; 2], Option<[f64; 3]>)>,
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -798,5 +1023,63 @@ mod tests {
         });
         let found = association(vec![Some(0), None]);
         assert!(longest_curved_facet_edges(&mesh, &found, &model, &[0]).is_empty());
+    }
+
+    /// A tetrahedron with one facet on the plane z = 0 whose corner at the origin has its
+    /// third edge on a facet of another cell: on the cylinder tangent to that plane along
+    /// the x axis (a fillet), the corner is flat once curved and an edge of the opposite
+    /// face through the domain is split; on the plane y = 0 (meeting z = 0 at 90°) the
+    /// corner keeps its shape and nothing is split.
+    #[test]
+    fn a_corner_on_a_fillets_tangent_edge_is_flat_and_split() {
+        let facet = |v: [u32; 3]| Element {
+            kind: Shape::Tri,
+            vertices: v.to_vec(),
+            entity: 1,
+        };
+        let model = planes_and_tangent_cylinder();
+        for (far, entity, flat) in [
+            ([[0.5, 0.5, 0.5], [1.0, 0.5, 0.5]], 2, true),
+            ([[0.5, 0.0, 0.5], [1.0, 0.0, 0.8]], 1, false),
+        ] {
+            let mesh = LinearMesh {
+                dim: 3,
+                vertices: vec![
+                    [0.0, 0.0, 0.0],
+                    [1.0, 0.0, 0.0],
+                    [0.5, -1.0, 0.0],
+                    far[0],
+                    far[1],
+                ],
+                cells: vec![Element {
+                    kind: Shape::Tet,
+                    vertices: vec![0, 2, 1, 3],
+                    entity: 1,
+                }],
+                facets: vec![facet([0, 1, 2]), facet([0, 3, 4])],
+                ..Default::default()
+            };
+            assert!(mesh.check_orientation().is_ok());
+            let found = association(vec![Some(0), Some(entity)]);
+            let corners = flat_corners(&mesh, &found, &model);
+            // Only the origin has its three edges on facets.
+            assert_eq!(corners.len(), 1, "{corners:?}");
+            let (cell, k, share) = corners[0];
+            assert_eq!((cell, k), (0, 0));
+            if flat {
+                assert!(share.abs() < 1e-2, "share {share}");
+            } else {
+                assert!((share - 1.0).abs() < 1e-9, "share {share}");
+            }
+            let splits = flat_corner_splits(&mesh, &found, &model);
+            assert!(splits.on_surface.is_empty());
+            if flat {
+                // The longer of 1–3 and 2–3, neither on a facet.
+                assert_eq!(splits.through.len(), 1);
+                assert_eq!(splits.through[0].0, [2, 3]);
+            } else {
+                assert!(splits.through.is_empty());
+            }
+        }
     }
 }

@@ -121,8 +121,10 @@ pub struct CurveReport {
     /// The threshold of the reshaping (0: off).
     pub reshape_below: f64,
     /// Interior edges split: before curving, those opposite the corner of two facets of a
-    /// cell on one curved entity (curving would open it to 180°, det J = 0); after it, the
-    /// longest chords of cells no repair certified (see `refinement_rounds`).
+    /// cell on one curved entity (curving would open it to 180°, det J = 0) and those
+    /// opposite a tetrahedron's corner that curving flattens (its three edges on curved
+    /// facets with one tangent plane at the vertex); after it, the longest chords of cells
+    /// no repair certified (see `refinement_rounds`).
     pub edges_split: usize,
     /// Rounds of splitting the longest chords of elements not certified (or certified
     /// poorly) and curving again (at most [`crate::pipeline::REFINEMENT_ROUNDS`]); their
@@ -142,7 +144,8 @@ pub struct CurveReport {
     /// Boundary edges split before curving, the new vertex on their surface: the third edge
     /// of a facet whose other two lie on one feature curve (a coarsely split rim), which
     /// would meet at 180° once curved; and a facet edge opposite the edge where two facets
-    /// of a tetrahedron on one curved surface meet (a diameter of a coarse rod).
+    /// of a tetrahedron on one curved surface meet (a diameter of a coarse rod); and a facet
+    /// edge opposite a corner that curving flattens where no interior edge is there.
     pub surface_edges_split: usize,
     /// Mesh edges where curved faces meet (on two or more surfaces) placed on the model's
     /// own curve there: a CAD edge of a STEP model, or a curve entity.

@@ -102,13 +102,14 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
     if r.edges_split > 0 {
         adjustments.push(if r.refinement_rounds > 0 {
             format!(
-                "{} interior edge(s) split (cells with two facets on one curved entity; \
-                 longest chords of cells not certified, {} round(s) of curving again)",
+                "{} interior edge(s) split (cells with two facets on one curved entity, or a \
+                 corner flat once curved; longest chords of cells not certified, {} round(s) of curving again)",
                 r.edges_split, r.refinement_rounds
             )
         } else {
             format!(
-                "{} interior edge(s) split (cells with two facets on one curved entity)",
+                "{} interior edge(s) split (cells with two facets on one curved entity, or a \
+                 corner flat once curved)",
                 r.edges_split
             )
         });
@@ -122,7 +123,8 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
     }
     if r.surface_edges_split > 0 {
         adjustments.push(format!(
-            "{} surface edge(s) split (facets with two edges on one feature curve, or opposite two facets of a cell on one curved surface)",
+            "{} surface edge(s) split (facets with two edges on one feature curve, or opposite \
+             two facets of a cell on one curved surface or a corner flat once curved)",
             r.surface_edges_split
         ));
     }

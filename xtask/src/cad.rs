@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 31] = [
+const CASES: [Case; 32] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -268,6 +268,16 @@ const CASES: [Case; 31] = [
     Case {
         name: "coarse_rod",
         geometry: "step",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // A slot whose top rim is filleted: corners whose three edges lie on the fillet and
+    // the face it runs into, flat once curved, split first.
+    Case {
+        name: "filleted_slot",
+        geometry: "igs",
         group: "wall",
         full_only: false,
         orders: 2..=5,
