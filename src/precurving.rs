@@ -129,17 +129,7 @@ pub(crate) fn facet_edges_opposite_doubly_curved_corners(
     association: &hocurve_geodesic::BoundaryAssociation,
     model: &hocurve_nurbs::GeometryModel,
 ) -> Vec<([u32; 2], Option<[f64; 3]>)> {
-    let mut entities_of: BTreeMap<[u32; 2], BTreeSet<Option<usize>>> = BTreeMap::new();
-    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
-        let n = f.vertices.len();
-        for k in 0..n {
-            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
-            entities_of
-                .entry([a.min(b), a.max(b)])
-                .or_default()
-                .insert(*e);
-        }
-    }
+    let entities_of = facet_edge_entities(linear, association);
     let mut positions: BTreeMap<[u32; 2], [f64; 3]> =
         doubly_curved_corners(linear, association, model)
             .into_iter()
@@ -567,6 +557,26 @@ pub(crate) fn longest_chord_of_each(linear: &LinearMesh, cells: &[usize]) -> Vec
     cells.iter().map(|&c| chord(c)).collect()
 }
 
+/// The entities of the facets holding each facet edge (None for a facet on no curved
+/// entity), keyed by its vertices, lower id first.
+fn facet_edge_entities(
+    linear: &LinearMesh,
+    association: &hocurve_geodesic::BoundaryAssociation,
+) -> BTreeMap<[u32; 2], BTreeSet<Option<usize>>> {
+    let mut entities_of: BTreeMap<[u32; 2], BTreeSet<Option<usize>>> = BTreeMap::new();
+    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
+        let n = f.vertices.len();
+        for k in 0..n {
+            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
+            entities_of
+                .entry([a.min(b), a.max(b)])
+                .or_default()
+                .insert(*e);
+        }
+    }
+    entities_of
+}
+
 /// The corners of tetrahedra whose three edges in the cell all lie on curved facets, with
 /// what is left of each once curved, as a share of the straight corner: (cell, local
 /// vertex, share), the share the triple product of the unit directions in which the
@@ -574,22 +584,17 @@ pub(crate) fn longest_chord_of_each(linear: &LinearMesh, cells: &[usize]) -> Vec
 /// vectors. Zero or less where the facets' surfaces have one tangent plane at the vertex.
 pub(crate) fn flat_corners(
     linear: &LinearMesh,
-    association: &hocurve_geodesic::BoundaryAssociation,
+    entities_of: &BTreeMap<[u32; 2], BTreeSet<Option<usize>>>,
     model: &hocurve_nurbs::GeometryModel,
 ) -> Vec<(usize, usize, f64)> {
     use hocurve_nurbs::vec3::{cross, dot, norm, scale, sub};
     let key = |a: u32, b: u32| [a.min(b), a.max(b)];
-    let mut edge_entities: BTreeMap<[u32; 2], BTreeSet<usize>> = BTreeMap::new();
-    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
-        let Some(e) = *e else {
-            continue;
-        };
-        let n = f.vertices.len();
-        for k in 0..n {
-            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
-            edge_entities.entry(key(a, b)).or_default().insert(e);
-        }
-    }
+    // The curved entities of the facets holding each facet edge (straight facets left out).
+    let edge_entities: BTreeMap<[u32; 2], Vec<usize>> = entities_of
+        .iter()
+        .map(|(&e, set)| (e, set.iter().flatten().copied().collect::<Vec<usize>>()))
+        .filter(|(_, entities)| !entities.is_empty())
+        .collect();
     let unit = |d: [f64; 3]| {
         let n = norm(d);
         (n > 0.0 && n.is_finite()).then(|| scale(d, 1.0 / n))
@@ -605,7 +610,7 @@ pub(crate) fn flat_corners(
         let x = |k: usize| linear.vertices[v[k] as usize];
         for k in 0..4 {
             let others: Vec<usize> = (0..4).filter(|&j| j != k).collect();
-            let sets: Vec<&BTreeSet<usize>> = others
+            let sets: Vec<&Vec<usize>> = others
                 .iter()
                 .filter_map(|&j| edge_entities.get(&key(v[k], v[j])))
                 .collect();
@@ -617,8 +622,7 @@ pub(crate) fn flat_corners(
             let mut ok = true;
             for (i, (&j, set)) in others.iter().zip(&sets).enumerate() {
                 let tangent = *directions.entry((v[k], v[j])).or_insert_with(|| {
-                    let entities: Vec<usize> = set.iter().copied().collect();
-                    curved_edge_direction(model, &entities, x(k), x(j)).and_then(unit)
+                    curved_edge_direction(model, set, x(k), x(j)).and_then(unit)
                 });
                 match (tangent, unit(sub(x(j), x(k)))) {
                     (Some(t), Some(u)) => {
@@ -705,20 +709,13 @@ pub(crate) fn flat_corner_splits(
     model: &hocurve_nurbs::GeometryModel,
 ) -> FlatCornerSplits {
     let key = |a: u32, b: u32| [a.min(b), a.max(b)];
-    let mut entities_of: BTreeMap<[u32; 2], BTreeSet<Option<usize>>> = BTreeMap::new();
-    for (f, e) in linear.facets.iter().zip(&association.facet_entity) {
-        let n = f.vertices.len();
-        for k in 0..n {
-            let (a, b) = (f.vertices[k], f.vertices[(k + 1) % n]);
-            entities_of.entry(key(a, b)).or_default().insert(*e);
-        }
-    }
+    let entities_of = facet_edge_entities(linear, association);
     let length = |[a, b]: [u32; 2]| {
         let (pa, pb) = (linear.vertices[a as usize], linear.vertices[b as usize]);
         (0..3).map(|d| (pa[d] - pb[d]).powi(2)).sum::<f64>()
     };
     let mut positions: BTreeMap<[u32; 2], [f64; 3]> = BTreeMap::new();
-    for (c, k, share) in flat_corners(linear, association, model) {
+    for (c, k, share) in flat_corners(linear, &entities_of, model) {
         if share >= FLAT_CORNER {
             continue;
         }
@@ -1061,7 +1058,7 @@ mod tests {
             };
             assert!(mesh.check_orientation().is_ok());
             let found = association(vec![Some(0), Some(entity)]);
-            let corners = flat_corners(&mesh, &found, &model);
+            let corners = flat_corners(&mesh, &facet_edge_entities(&mesh, &found), &model);
             // Only the origin has its three edges on facets.
             assert_eq!(corners.len(), 1, "{corners:?}");
             let (cell, k, share) = corners[0];
