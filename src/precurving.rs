@@ -577,16 +577,50 @@ fn facet_edge_entities(
     entities_of
 }
 
+/// A corner of a tetrahedron whose three edges in the cell all lie on curved facets
+/// ([`flat_corners`]).
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct FlatCorner {
+    /// Index into `linear.cells`.
+    pub cell: usize,
+    /// The corner's local vertex.
+    pub corner: usize,
+    /// What is left of the corner once curved, as a share of the straight one: the triple
+    /// product of the unit directions in which the curved edges leave the vertex
+    /// ([`curved_edge_direction`]) over that of the unit edge vectors. Zero or less where
+    /// the facets' surfaces have one tangent plane at the vertex.
+    pub share: f64,
+    /// The two edges whose face keeps least of its corner, seen in the plane of the
+    /// straight face: (a, b, (t_a × t_b) · (u_a × u_b) / |u_a × u_b|²), a and b indices
+    /// among the corner's edges (to the other local vertices in increasing order), t the
+    /// curved edges' unit directions and u the straight ones'. Zero or less where the two
+    /// leave the vertex in opposite directions (the crest of a rounded rib spanned by one
+    /// cell): |det J| there is at most |t_a × t_b| |t_c| in any cell that has both.
+    pub pair: (usize, usize, f64),
+}
+
+impl FlatCorner {
+    /// Whether curving flattens the corner: less than [`FLAT_CORNER`] of it is left.
+    pub fn is_flat(&self) -> bool {
+        self.share.is_nan() || self.share < FLAT_CORNER
+    }
+
+    /// The two edges that stay flat together (less than [`FLAT_CORNER`] of their face's
+    /// corner left), if any: a half of the cell that keeps both stays flat, so only the
+    /// edge between their far ends is worth splitting.
+    pub fn flat_pair(&self) -> Option<(usize, usize)> {
+        let (a, b, face) = self.pair;
+        (face.is_nan() || face < FLAT_CORNER).then_some((a, b))
+    }
+}
+
 /// The corners of tetrahedra whose three edges in the cell all lie on curved facets, with
-/// what is left of each once curved, as a share of the straight corner: (cell, local
-/// vertex, share), the share the triple product of the unit directions in which the
-/// curved edges leave the vertex ([`curved_edge_direction`]) over that of the unit edge
-/// vectors. Zero or less where the facets' surfaces have one tangent plane at the vertex.
+/// what is left of each once curved ([`FlatCorner`]).
 pub(crate) fn flat_corners(
     linear: &LinearMesh,
     entities_of: &BTreeMap<[u32; 2], BTreeSet<Option<usize>>>,
     model: &hocurve_nurbs::GeometryModel,
-) -> Vec<(usize, usize, f64)> {
+) -> Vec<FlatCorner> {
     use hocurve_nurbs::vec3::{cross, dot, norm, scale, sub};
     let key = |a: u32, b: u32| [a.min(b), a.max(b)];
     // The curved entities of the facets holding each facet edge (straight facets left out).
@@ -640,7 +674,26 @@ pub(crate) fn flat_corners(
             if straight == 0.0 || !straight.is_finite() {
                 continue;
             }
-            out.push((c, k, det(tangents) / straight));
+            let face = |a: usize, b: usize| {
+                let normal = cross(chords[a], chords[b]);
+                dot(cross(tangents[a], tangents[b]), normal) / dot(normal, normal)
+            };
+            let pair = [(0, 1), (0, 2), (1, 2)]
+                .map(|(a, b)| (a, b, face(a, b)))
+                .into_iter()
+                .fold((0, 1, f64::INFINITY), |least, p| {
+                    if p.2 < least.2 || p.2.is_nan() {
+                        p
+                    } else {
+                        least
+                    }
+                });
+            out.push(FlatCorner {
+                cell: c,
+                corner: k,
+                share: det(tangents) / straight,
+                pair,
+            });
         }
     }
     out
@@ -701,8 +754,11 @@ const FLAT_CORNER: f64 = crate::pipeline::REFINE_BELOW;
 /// straight corner's). Splitting an edge of the face opposite the vertex gives the vertex
 /// an edge into the domain in each half: an edge through the domain (at its midpoint)
 /// where that face has one, else a facet edge on one surface entity (at the middle of its
-/// geodesic). Splits that would leave a cell around the edge with less than a hundredth
-/// of its volume in either half are left out ([`fair_splits`]).
+/// geodesic) — but where two of the edges leave the vertex in opposite directions (the
+/// crest of a rounded rib spanned by one cell, [`FlatCorner::flat_pair`]) a half that
+/// keeps both stays flat, so the edge between their far ends is the one split. Splits that
+/// would leave a cell around the edge with less than a hundredth of its volume in either
+/// half are left out ([`fair_splits`]).
 pub(crate) fn flat_corner_splits(
     linear: &LinearMesh,
     association: &hocurve_geodesic::BoundaryAssociation,
@@ -715,58 +771,54 @@ pub(crate) fn flat_corner_splits(
         (0..3).map(|d| (pa[d] - pb[d]).powi(2)).sum::<f64>()
     };
     let mut positions: BTreeMap<[u32; 2], [f64; 3]> = BTreeMap::new();
-    for (c, k, share) in flat_corners(linear, &entities_of, model) {
-        if share >= FLAT_CORNER {
+    for corner in flat_corners(linear, &entities_of, model) {
+        if !corner.is_flat() {
             continue;
         }
-        let v = &linear.cells[c].vertices;
+        let v = &linear.cells[corner.cell].vertices;
+        let k = corner.corner;
         let face: Vec<u32> = (0..4).filter(|&j| j != k).map(|j| v[j]).collect();
-        let mut through: Option<[u32; 2]> = None;
-        let mut on_surface: Option<([u32; 2], usize)> = None;
-        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
-            let e = key(face[i], face[j]);
-            // Ties go to the lower pair: the choice does not depend on the vertex order.
-            let longer = |best: [u32; 2]| {
-                length(e) > length(best) || (length(e) == length(best) && e < best)
-            };
-            match entities_of.get(&e) {
-                None => {
-                    if through.is_none_or(longer) {
-                        through = Some(e);
-                    }
-                }
+        // The edge between the far ends of a flat pair; else the face's edges that can be
+        // split — through the domain, or on facets of one surface entity — through the
+        // domain first, longer first; ties go to the lower pair, so the choice does not
+        // depend on the vertex order.
+        let pairs: Vec<(usize, usize)> = match corner.flat_pair() {
+            Some(pair) => vec![pair],
+            None => vec![(0, 1), (0, 2), (1, 2)],
+        };
+        let mut candidates: Vec<(usize, usize, Option<usize>)> = Vec::new();
+        for (i, j) in pairs {
+            match entities_of.get(&key(face[i], face[j])) {
+                None => candidates.push((i, j, None)),
                 Some(set) => {
                     if let (Some(&Some(entity)), 1) = (set.first(), set.len()) {
-                        if on_surface.is_none_or(|(best, _)| longer(best)) {
-                            on_surface = Some((e, entity));
-                        }
+                        candidates.push((i, j, Some(entity)));
                     }
                 }
             }
         }
-        let ends = |e: [u32; 2]| {
-            (
-                linear.vertices[e[0] as usize],
-                linear.vertices[e[1] as usize],
-            )
+        candidates.sort_by(|&(i, j, a), &(m, n, b)| {
+            let (e, f) = (key(face[i], face[j]), key(face[m], face[n]));
+            (a.is_some(), length(f), e)
+                .partial_cmp(&(b.is_some(), length(e), f))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        let Some(&(i, j, entity)) = candidates.first() else {
+            continue;
         };
-        let split = match (through, on_surface) {
-            (Some(e), _) => {
-                let (pa, pb) = ends(e);
-                Some((e, [0, 1, 2].map(|d| 0.5 * (pa[d] + pb[d]))))
-            }
-            (None, Some((e, entity))) => {
-                let (pa, pb) = ends(e);
-                model
-                    .entities
-                    .get(entity)
-                    .and_then(|entity| midpoint_on_surface(entity, pa, pb))
-                    .map(|q| (e, q))
-            }
-            (None, None) => None,
+        let (pa, pb) = (
+            linear.vertices[face[i] as usize],
+            linear.vertices[face[j] as usize],
+        );
+        let q = match entity {
+            None => Some([0, 1, 2].map(|d| 0.5 * (pa[d] + pb[d]))),
+            Some(entity) => model
+                .entities
+                .get(entity)
+                .and_then(|entity| midpoint_on_surface(entity, pa, pb)),
         };
-        if let Some((e, q)) = split {
-            positions.insert(e, q);
+        if let Some(q) = q {
+            positions.insert(key(face[i], face[j]), q);
         }
     }
     fair_splits(linear, &mut positions, 1e-2);
@@ -1027,6 +1079,71 @@ mod tests {
     /// the x axis (a fillet), the corner is flat once curved and an edge of the opposite
     /// face through the domain is split; on the plane y = 0 (meeting z = 0 at 90°) the
     /// corner keeps its shape and nothing is split.
+    /// The crest of a rounded rib spanned by one cell: a tetrahedron k a b c whose edges k a
+    /// and k b run over a cylinder (axis y, radius 1) from its top k = (0, 0, 1) down to
+    /// either side, a = (−1, 0, 0) and b = (1, 0, 0), and k c along its top. Curved, k a and
+    /// k b leave k in opposite directions, so any half that keeps both stays flat: of the
+    /// opposite face's edges through the domain, b c is the longer, but only splitting a b
+    /// (at the axis) opens the corner in both halves.
+    #[test]
+    fn a_crest_between_two_curved_edges_is_split_between_their_ends() {
+        use hocurve_nurbs::{EntityGeometry, GeometricEntity};
+        let cylinder =
+            hocurve_nurbs::shapes::cylinder([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], 1.0, (-2.0, 4.0))
+                .expect("cylinder");
+        let model = hocurve_nurbs::GeometryModel::new(
+            vec![GeometricEntity::new(
+                "rib",
+                "test",
+                EntityGeometry::Surface(cylinder),
+            )],
+            None,
+        );
+        let facet = |v: [u32; 3]| Element {
+            kind: Shape::Tri,
+            vertices: v.to_vec(),
+            entity: 1,
+        };
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let mut mesh = LinearMesh {
+            dim: 3,
+            // k, a, b, c, and d beside b (for a facet k b d outside the cell).
+            vertices: vec![
+                [0.0, 0.0, 1.0],
+                [-1.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [0.0, 3.0, 1.0],
+                [h, -1.0, h],
+            ],
+            cells: vec![Element {
+                kind: Shape::Tet,
+                vertices: vec![0, 1, 2, 3],
+                entity: 1,
+            }],
+            facets: vec![facet([0, 1, 3]), facet([0, 2, 4])],
+            ..Default::default()
+        };
+        if mesh.check_orientation().is_err() {
+            mesh.cells[0].vertices.swap(1, 2);
+        }
+        assert!(mesh.check_orientation().is_ok());
+        let found = association(vec![Some(0), Some(0)]);
+        let corners = flat_corners(&mesh, &facet_edge_entities(&mesh, &found), &model);
+        let crest: Vec<&FlatCorner> = corners
+            .iter()
+            .filter(|c| mesh.cells[c.cell].vertices[c.corner] == 0)
+            .collect();
+        assert_eq!(crest.len(), 1, "{corners:?}");
+        assert!(crest[0].share.abs() < 1e-2, "share {}", crest[0].share);
+        // b c (length √11) is longer than a b (2), and neither lies on a facet.
+        let splits = flat_corner_splits(&mesh, &found, &model);
+        assert!(splits.on_surface.is_empty());
+        assert_eq!(splits.through.len(), 1, "{:?}", splits.through);
+        assert_eq!(splits.through[0].0, [1, 2]);
+        let q = splits.through[0].1.expect("a position");
+        assert!(q.iter().all(|x| x.abs() < 1e-15), "{q:?}");
+    }
+
     #[test]
     fn a_corner_on_a_fillets_tangent_edge_is_flat_and_split() {
         let facet = |v: [u32; 3]| Element {
@@ -1059,9 +1176,15 @@ mod tests {
             assert!(mesh.check_orientation().is_ok());
             let found = association(vec![Some(0), Some(entity)]);
             let corners = flat_corners(&mesh, &facet_edge_entities(&mesh, &found), &model);
-            // Only the origin has its three edges on facets.
+            // Only the origin has its three edges on facets (the others two or fewer).
+            let corners: Vec<&FlatCorner> = corners.iter().filter(|c| c.corner == 0).collect();
             assert_eq!(corners.len(), 1, "{corners:?}");
-            let (cell, k, share) = corners[0];
+            let &FlatCorner {
+                cell,
+                corner: k,
+                share,
+                ..
+            } = corners[0];
             assert_eq!((cell, k), (0, 0));
             if flat {
                 assert!(share.abs() < 1e-2, "share {share}");
