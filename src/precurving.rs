@@ -797,13 +797,13 @@ pub(crate) fn flat_corner_splits(
                 }
             }
         }
-        candidates.sort_by(|&(i, j, a), &(m, n, b)| {
+        let first = candidates.into_iter().min_by(|&(i, j, a), &(m, n, b)| {
             let (e, f) = (key(face[i], face[j]), key(face[m], face[n]));
             (a.is_some(), length(f), e)
                 .partial_cmp(&(b.is_some(), length(e), f))
                 .unwrap_or(std::cmp::Ordering::Equal)
         });
-        let Some(&(i, j, entity)) = candidates.first() else {
+        let Some((i, j, entity)) = first else {
             continue;
         };
         let (pa, pb) = (
