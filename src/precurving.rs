@@ -610,7 +610,7 @@ impl FlatCorner {
     /// edge between their far ends is worth splitting.
     pub fn flat_pair(&self) -> Option<(usize, usize)> {
         let (a, b, face) = self.pair;
-        (face.is_nan() || face < FLAT_CORNER).then_some((a, b))
+        (face < FLAT_CORNER).then_some((a, b))
     }
 }
 
@@ -678,16 +678,14 @@ pub(crate) fn flat_corners(
                 let normal = cross(chords[a], chords[b]);
                 dot(cross(tangents[a], tangents[b]), normal) / dot(normal, normal)
             };
-            let pair = [(0, 1), (0, 2), (1, 2)]
+            // (The straight corner is not flat, so no two chords are parallel.)
+            let Some(pair) = [(0, 1), (0, 2), (1, 2)]
                 .map(|(a, b)| (a, b, face(a, b)))
                 .into_iter()
-                .fold((0, 1, f64::INFINITY), |least, p| {
-                    if p.2 < least.2 || p.2.is_nan() {
-                        p
-                    } else {
-                        least
-                    }
-                });
+                .min_by(|p, q| p.2.total_cmp(&q.2))
+            else {
+                continue;
+            };
             out.push(FlatCorner {
                 cell: c,
                 corner: k,
@@ -1074,11 +1072,6 @@ mod tests {
         assert!(longest_curved_facet_edges(&mesh, &found, &model, &[0]).is_empty());
     }
 
-    /// A tetrahedron with one facet on the plane z = 0 whose corner at the origin has its
-    /// third edge on a facet of another cell: on the cylinder tangent to that plane along
-    /// the x axis (a fillet), the corner is flat once curved and an edge of the opposite
-    /// face through the domain is split; on the plane y = 0 (meeting z = 0 at 90°) the
-    /// corner keeps its shape and nothing is split.
     /// The crest of a rounded rib spanned by one cell: a tetrahedron k a b c whose edges k a
     /// and k b run over a cylinder (axis y, radius 1) from its top k = (0, 0, 1) down to
     /// either side, a = (−1, 0, 0) and b = (1, 0, 0), and k c along its top. Curved, k a and
@@ -1129,12 +1122,22 @@ mod tests {
         assert!(mesh.check_orientation().is_ok());
         let found = association(vec![Some(0), Some(0)]);
         let corners = flat_corners(&mesh, &facet_edge_entities(&mesh, &found), &model);
-        let crest: Vec<&FlatCorner> = corners
-            .iter()
-            .filter(|c| mesh.cells[c.cell].vertices[c.corner] == 0)
+        // Only k has its three edges on facets (a and c have two, b one).
+        assert_eq!(corners.len(), 1, "{corners:?}");
+        let crest = corners[0];
+        let v = &mesh.cells[crest.cell].vertices;
+        assert_eq!(v[crest.corner], 0);
+        assert!(crest.share.abs() < 1e-2, "share {}", crest.share);
+        // The flat pair is k a, k b: t_a = −t_b, so nothing is left of their face's corner.
+        let (i, j) = crest.flat_pair().expect("a flat pair");
+        let others: Vec<u32> = (0..4)
+            .filter(|&m| m != crest.corner)
+            .map(|m| v[m])
             .collect();
-        assert_eq!(crest.len(), 1, "{corners:?}");
-        assert!(crest[0].share.abs() < 1e-2, "share {}", crest[0].share);
+        let mut ends = [others[i], others[j]];
+        ends.sort_unstable();
+        assert_eq!(ends, [1, 2]);
+        assert!(crest.pair.2.abs() < 1e-2, "face {}", crest.pair.2);
         // b c (length √11) is longer than a b (2), and neither lies on a facet.
         let splits = flat_corner_splits(&mesh, &found, &model);
         assert!(splits.on_surface.is_empty());
@@ -1144,6 +1147,11 @@ mod tests {
         assert!(q.iter().all(|x| x.abs() < 1e-15), "{q:?}");
     }
 
+    /// A tetrahedron with one facet on the plane z = 0 whose corner at the origin has its
+    /// third edge on a facet of another cell: on the cylinder tangent to that plane along
+    /// the x axis (a fillet), the corner is flat once curved and an edge of the opposite
+    /// face through the domain is split; on the plane y = 0 (meeting z = 0 at 90°) the
+    /// corner keeps its shape and nothing is split.
     #[test]
     fn a_corner_on_a_fillets_tangent_edge_is_flat_and_split() {
         let facet = |v: [u32; 3]| Element {
@@ -1176,10 +1184,9 @@ mod tests {
             assert!(mesh.check_orientation().is_ok());
             let found = association(vec![Some(0), Some(entity)]);
             let corners = flat_corners(&mesh, &facet_edge_entities(&mesh, &found), &model);
-            // Only the origin has its three edges on facets (the others two or fewer).
-            let corners: Vec<&FlatCorner> = corners.iter().filter(|c| c.corner == 0).collect();
+            // Only the origin has its three edges on facets.
             assert_eq!(corners.len(), 1, "{corners:?}");
-            let &FlatCorner {
+            let FlatCorner {
                 cell,
                 corner: k,
                 share,
