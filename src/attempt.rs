@@ -394,6 +394,9 @@ impl Attempt {
             facets_by_name: association.map_or(0, |a| a.by_name),
             facets_by_proximity: association.map_or(0, |a| a.by_proximity),
             facets_straight: association.map_or(0, |a| a.unassociated),
+            // Set by `curve_mesh`, which completes the input.
+            undeclared_facets: 0,
+            reoriented_cells: 0,
             geometry_tolerance: association.map_or(0.0, |a| a.tolerance),
             max_vertex_move: association.map_or(0.0, |a| a.max_vertex_move),
             boundary_nodes_on_geometry: targets.targets.len(),

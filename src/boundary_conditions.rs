@@ -216,7 +216,11 @@ pub(crate) fn sliding_groups(
         return Ok(groups);
     }
     for name in names {
-        let facets = group_facets(mesh, name, "slide")?;
+        // A group the file names but puts no facet in (MSH 2.2 with Mesh.SaveAll) has
+        // nothing to slide.
+        let Ok(facets) = group_facets(mesh, name, "slide") else {
+            continue;
+        };
         let on_geometry = |f: &usize| {
             mesh.facets[*f]
                 .nodes
@@ -274,6 +278,12 @@ pub(crate) fn group_facets(
         })
         .map(|(i, _)| i)
         .collect();
+    if facets.is_empty() && !tags.is_empty() {
+        return Err(CurveError::EmptySlideGroup {
+            option,
+            name: name.to_string(),
+        });
+    }
     if facets.is_empty() {
         let available: Vec<&str> = mesh
             .physical_groups
@@ -496,6 +506,37 @@ mod tests {
         // Order 2 on 2³ cells (5 × 5 nodes a side): 3 nodes strictly inside each of the 4
         // vertical edges, 3 × 3 strictly inside each side.
         assert_eq!((lines, planes), (4 * 3, 4 * 9));
+    }
+
+    /// MSH 2.2 written with Gmsh's Mesh.SaveAll names the groups but puts every element
+    /// outside them (physical tag 0): such a group neither slides by default nor is
+    /// taken for a group that does not exist.
+    #[test]
+    fn a_named_group_without_facets_is_not_slid_and_said_to_be_empty() {
+        let mut mesh = cube_with_groups();
+        mesh.physical_groups.push(PhysicalGroup {
+            dim: 2,
+            tag: 4,
+            name: "saved_all".into(),
+        });
+        let mut targets = BTreeMap::new();
+        for (n, x) in mesh.nodes.iter().enumerate() {
+            if x[2] == 1.0 {
+                targets.insert(n as u32, *x);
+            }
+        }
+        let groups = sliding_groups(&mesh, &targets, &[], &[]).unwrap();
+        assert_eq!(groups, [("sides".to_string(), true)]);
+        let empty = group_facets(&mesh, "saved_all", "slide").unwrap_err();
+        assert!(
+            matches!(&empty, CurveError::EmptySlideGroup { name, .. } if name == "saved_all"),
+            "{empty}"
+        );
+        let unknown = group_facets(&mesh, "nowhere", "fix").unwrap_err();
+        assert!(
+            matches!(unknown, CurveError::UnknownSlideGroup { .. }),
+            "{unknown}"
+        );
     }
 
     #[test]

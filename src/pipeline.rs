@@ -82,6 +82,17 @@ pub enum CurveError {
         /// The names the mesh has.
         available: String,
     },
+    /// A `--slide` or `--fix` group named in the file that holds no facets (Gmsh's MSH 2.2
+    /// with `Mesh.SaveAll` writes every element with physical tag 0).
+    #[error(
+        "--{option} {name}: the file names this boundary group but none of its elements is in it (Gmsh writes every element outside all groups when Mesh.SaveAll is set and MSH 2.2 is written: save without it, or as MSH 4.1)"
+    )]
+    EmptySlideGroup {
+        /// "slide" or "fix".
+        option: &'static str,
+        /// The requested group.
+        name: String,
+    },
     /// A group given both to `slide` and to `fix`.
     #[error("--slide {name} and --fix {name}: a group cannot both slide and be fixed")]
     SlideAndFix {
@@ -252,6 +263,67 @@ pub fn curve_mesh(
 ) -> Result<CurvedMesh, CurveError> {
     // Before the association, whose "nothing on the geometry" would hide the reason.
     linear.check_planar()?;
+    let completed = CompletedInput::of(linear, geometry.is_some())?;
+    let mut curved = curve_complete_mesh(
+        completed.mesh.as_ref().unwrap_or(linear),
+        geometry,
+        options,
+        progress,
+    )?;
+    curved.mesh.drop_undeclared_facets();
+    curved.report.undeclared_facets = completed.undeclared_facets;
+    curved.report.reoriented_cells = completed.reoriented_cells;
+    Ok(curved)
+}
+
+/// The input as curving needs it, when it is not the file's: 2D cells numbered clockwise
+/// by their surface renumbered counter-clockwise (the certification and every solver
+/// reading the result take det J > 0 for valid), and — when there is a geometry — the
+/// boundary facets the file did not declare found from the cells (a file whose only
+/// physical group is the volume has none; one with groups on some walls has only those),
+/// so that every boundary facet on the geometry is curved, as the written cells' nodes
+/// are checked; they are not written ([`HighOrderMesh::drop_undeclared_facets`]).
+struct CompletedInput {
+    /// The completed mesh; None when it is the input.
+    mesh: Option<LinearMesh>,
+    undeclared_facets: usize,
+    reoriented_cells: usize,
+}
+
+impl CompletedInput {
+    fn of(linear: &LinearMesh, with_geometry: bool) -> Result<Self, CurveError> {
+        let clockwise = linear.clockwise_cells();
+        let undeclared = if with_geometry {
+            linear.undeclared_boundary_facets()?
+        } else {
+            Vec::new()
+        };
+        let (undeclared_facets, reoriented_cells) = (undeclared.len(), clockwise.len());
+        if undeclared.is_empty() && clockwise.is_empty() {
+            return Ok(CompletedInput {
+                mesh: None,
+                undeclared_facets,
+                reoriented_cells,
+            });
+        }
+        let mut mesh = linear.clone();
+        mesh.reverse_numbering(&clockwise);
+        mesh.add_undeclared_facets(undeclared);
+        Ok(CompletedInput {
+            mesh: Some(mesh),
+            undeclared_facets,
+            reoriented_cells,
+        })
+    }
+}
+
+/// [`curve_mesh`] on a mesh with its boundary facets and orientation complete.
+fn curve_complete_mesh(
+    linear: &LinearMesh,
+    geometry: Option<Geometry>,
+    options: &CurveOptions,
+    progress: &mut dyn FnMut(Progress),
+) -> Result<CurvedMesh, CurveError> {
     let start = Instant::now();
     let kept = Kept::default();
     let curved = refine_and_curve(

@@ -70,6 +70,11 @@ pub struct CurveReport {
     pub facets_by_proximity: usize,
     /// Boundary facets on no entity (kept straight, fixed).
     pub facets_straight: usize,
+    /// Boundary facets of the cells that the file did not declare, found from the cells
+    /// and curved with the rest (not written: the file gets no elements it did not have).
+    pub undeclared_facets: usize,
+    /// 2D cells numbered clockwise by their surface, written counter-clockwise.
+    pub reoriented_cells: usize,
     /// Association tolerance used (largest vertex distance from its entity).
     pub geometry_tolerance: f64,
     /// Largest distance a boundary vertex was moved to lie on the geometry.

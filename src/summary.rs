@@ -44,6 +44,22 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
             ),
         ),
     ];
+    if r.undeclared_facets > 0 || r.reoriented_cells > 0 {
+        let mut found = Vec::new();
+        if r.undeclared_facets > 0 {
+            found.push(format!(
+                "{} boundary facet(s) not in the file found from the cells and curved (not written)",
+                r.undeclared_facets
+            ));
+        }
+        if r.reoriented_cells > 0 {
+            found.push(format!(
+                "{} cell(s) numbered clockwise written counter-clockwise",
+                r.reoriented_cells
+            ));
+        }
+        rows.push(("input", found.join("; ")));
+    }
     if r.sliding_nodes > 0 {
         let groups: Vec<String> = r
             .sliding_groups

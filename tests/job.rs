@@ -705,3 +705,69 @@ fn a_cell_no_repair_certifies_is_split_along_its_longest_chord_and_curved_again(
     assert_eq!(written.cells.len(), r.elements);
     assert!(r.max_geometry_distance < 1e-12);
 }
+
+/// A mesh saved with a physical group on the volume alone (Gmsh then writes no boundary
+/// triangles): the faces the cells leave uncovered are found and curved, and the file
+/// written holds the cells alone, as the input did. Before, the job stopped with "no
+/// boundary facet lies on the geometry".
+#[test]
+fn a_mesh_whose_only_group_is_the_volume_is_curved_on_its_uncovered_faces() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = fixture_inputs("capsule_volume", "step");
+    assert!(inputs.linear.facets.is_empty());
+    let boundary = hocurve::mesh::Topology::new(&inputs.linear)
+        .unwrap()
+        .boundary_facets()
+        .count();
+    let outputs = mesh_only(dir.path().join("capsule.msh"));
+    let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |_| {}).unwrap();
+    let r = &finished.curved.report;
+    assert_eq!(r.undeclared_facets, boundary);
+    assert_eq!(r.facets_by_proximity, boundary);
+    assert_eq!(r.certified_valid_elements, Some(r.elements));
+    let written = hocurve::io::read_high_order_mesh(&outputs.mesh).unwrap();
+    assert!(written.facets.is_empty());
+    // The capsule: a cylinder of radius 0.5 along x from 0 to 2, a sphere at each end.
+    let capsule = |x: [f64; 3]| {
+        let centre = [x[0].clamp(0.0, 2.0), 0.0, 0.0];
+        let r = ((x[0] - centre[0]).powi(2) + x[1] * x[1] + x[2] * x[2]).sqrt();
+        (r - 0.5).abs()
+    };
+    let mut on_boundary = 0;
+    for (_, nodes) in written.boundary_facet_nodes().unwrap() {
+        for n in nodes {
+            let d = capsule(written.nodes[n as usize]);
+            assert!(d < 1e-12, "node {n} is {d:e} off the capsule");
+            on_boundary += 1;
+        }
+    }
+    assert!(on_boundary > 0);
+}
+
+/// A 2D face whose normal is −z (built from a clockwise loop): Gmsh numbers its triangles
+/// clockwise. They are curved and written counter-clockwise, every one certified. Before,
+/// every element was refused as not certified.
+#[test]
+fn a_2d_mesh_numbered_clockwise_is_curved_and_written_counter_clockwise() {
+    let dir = tempfile::tempdir().unwrap();
+    let inputs = fixture_inputs("plate_clockwise", "igs");
+    let outputs = mesh_only(dir.path().join("plate.msh"));
+    let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |_| {}).unwrap();
+    let r = &finished.curved.report;
+    assert_eq!(r.reoriented_cells, inputs.linear.cells.len());
+    assert_eq!(r.certified_valid_elements, Some(r.elements));
+    let turn = |x: &[[f64; 3]], v: &[u32]| {
+        let [a, b, c] = [0, 1, 2].map(|k| x[v[k] as usize]);
+        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
+    };
+    assert!(inputs
+        .linear
+        .cells
+        .iter()
+        .all(|c| turn(&inputs.linear.vertices, &c.vertices) < 0.0));
+    let written = hocurve::io::read_high_order_mesh(&outputs.mesh).unwrap();
+    assert!(written
+        .cells
+        .iter()
+        .all(|c| turn(&written.nodes, &c.nodes) > 0.0));
+}

@@ -4,7 +4,7 @@
     target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs|.step) GROUP [--distance-only]
 
 - Every node of every boundary element of physical group GROUP (the curved wall; `*`: of
-  every boundary element in the file) lies on
+  every boundary element in the file and of every cell face no other cell shares) lies on
   the geometry: for a JSON sphere, | |x - c| - r | (a cylinder: its radial distance minus r;
   a circle: the same in the plane);
   for IGES and STEP, the distance to the nearest
@@ -61,13 +61,15 @@ def main():
 
 def group_nodes(name):
     if name == "*":
-        # Every boundary element the file holds (meshes without physical groups).
+        # Every boundary element the file holds (meshes without physical groups), and the
+        # faces (edges in 2D) of the cells that no other cell shares: a file saved with a
+        # physical group on the volume alone holds no boundary elements.
         nodes = set()
         for dim, entity in gmsh.model.getEntities(gmsh.model.getDimension() - 1):
             _, _, element_nodes = gmsh.model.mesh.getElements(dim, entity)
             for block in element_nodes:
                 nodes.update(int(n) for n in block)
-        return nodes
+        return nodes | uncovered_facet_nodes()
     for dim, tag in gmsh.model.getPhysicalGroups():
         if gmsh.model.getPhysicalName(dim, tag) == name:
             nodes = set()
@@ -77,6 +79,33 @@ def group_nodes(name):
                     nodes.update(int(n) for n in block)
             return nodes
     raise SystemExit(f"no physical group {name!r}")
+
+
+def uncovered_facet_nodes():
+    """The nodes, by Gmsh's own face (2D: edge) nodes of each cell, of the facets that
+    belong to one cell only."""
+    dim = gmsh.model.getDimension()
+    facets = []
+    for etype in gmsh.model.mesh.getElementTypes(dim):
+        kinds = (3, 4) if dim == 3 else (2,)
+        for kind in kinds:
+            if dim == 3:
+                corners = gmsh.model.mesh.getElementFaceNodes(etype, kind, primary=True)
+                full = gmsh.model.mesh.getElementFaceNodes(etype, kind, primary=False)
+            else:
+                corners = gmsh.model.mesh.getElementEdgeNodes(etype, primary=True)
+                full = gmsh.model.mesh.getElementEdgeNodes(etype, primary=False)
+            per = kind if dim == 3 else 2
+            count = len(corners) // per
+            if count == 0:
+                continue
+            corners = np.asarray(corners).reshape(count, per)
+            full = np.asarray(full).reshape(count, -1)
+            facets.extend(zip(map(lambda c: tuple(sorted(c)), corners.tolist()), full.tolist()))
+    seen = {}
+    for key, _ in facets:
+        seen[key] = seen.get(key, 0) + 1
+    return {int(n) for key, full in facets if seen[key] == 1 for n in full}
 
 
 def read_msh41(path, group):

@@ -46,7 +46,7 @@ struct Case {
     vtk_from: usize,
 }
 
-const CASES: [Case; 32] = [
+const CASES: [Case; 34] = [
     Case {
         name: "sphere_coarse",
         geometry: "json",
@@ -277,6 +277,26 @@ const CASES: [Case; 32] = [
     // the face it runs into, flat once curved, split first.
     Case {
         name: "filleted_slot",
+        geometry: "igs",
+        group: "wall",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // A mesh whose only physical group is the volume: no boundary elements in the file, the
+    // boundary to curve is what the cells leave uncovered (checked the same way).
+    Case {
+        name: "capsule_volume",
+        geometry: "step",
+        group: "*",
+        full_only: false,
+        orders: 2..=5,
+        vtk_from: usize::MAX,
+    },
+    // A 2D face whose normal is -z: its triangles numbered clockwise, written
+    // counter-clockwise.
+    Case {
+        name: "plate_clockwise",
         geometry: "igs",
         group: "wall",
         full_only: false,

@@ -112,6 +112,26 @@ impl HighOrderMesh {
         &self.layout
     }
 
+    /// Removes the facets that were found from the cells rather than read from the file
+    /// ([`crate::Element::is_undeclared_facet`]: curved like the others, their nodes stay in
+    /// the cells, but the file written gets no elements it did not have) and returns how
+    /// many.
+    pub fn drop_undeclared_facets(&mut self) -> usize {
+        let before = self.facets.len();
+        let mut ids = self.facet_ids.iter();
+        let mut kept_ids = Vec::with_capacity(before);
+        self.facets.retain(|f| {
+            let id = ids.next();
+            let keep = !crate::undeclared::is_undeclared_entity(f.entity);
+            if keep {
+                kept_ids.extend(id);
+            }
+            keep
+        });
+        self.facet_ids = kept_ids;
+        before - self.facets.len()
+    }
+
     /// Places the straight-sided order-`order` nodes of `family` on every element of `mesh`.
     pub fn from_linear(
         mesh: &LinearMesh,

@@ -33,6 +33,7 @@ mod linear;
 mod resample;
 mod split;
 mod topology;
+mod undeclared;
 
 pub use high_order::{HighOrderElement, HighOrderMesh, NodeLayout};
 pub use hocurve_nodes::Shape;
@@ -174,7 +175,7 @@ pub enum MeshError {
     /// A 2D cell numbered the other way round from the mesh's first cell (clockwise against
     /// counter-clockwise in the xy-plane): each is valid, but a mesh must use one orientation.
     #[error(
-        "input element tag {tag} is numbered {this} in the xy-plane, the first cell (element tag {first_tag}) {first}: a 2D mesh must number all its cells one way round (in Gmsh: gmsh.model.mesh.reverse on the surfaces of one kind, or ReverseMesh Surface{{…}})"
+        "input element tag {tag} is numbered {this} in the xy-plane, the first cell (element tag {first_tag}) {first}: a surface whose cells all turn clockwise is renumbered, but one that numbers its cells both ways round is folded or edited (in Gmsh: gmsh.model.mesh.reverse on its cells, or ReverseMesh Surface{{…}})"
     )]
     MixedOrientation {
         /// Cell index.
