@@ -179,7 +179,6 @@ pub(crate) fn untangle_not_certified(
     if bad.is_empty() || quality.validity.is_none() {
         return Ok((quality, done));
     }
-    done.elements = bad.len();
     let mut sliding = sliding.clone();
     for (&node, &(_, normal)) in in_planes {
         sliding.entry(node).or_insert(NodeConstraint::Plane(normal));
@@ -188,6 +187,27 @@ pub(crate) fn untangle_not_certified(
         .into_iter()
         .filter(|n| !in_planes.contains_key(n));
     let fixed = held_nodes(mesh, on_geometry, &sliding)?;
+    let mut held = vec![false; mesh.nodes.len()];
+    for &n in &fixed {
+        if let Some(h) = held.get_mut(n as usize) {
+            *h = true;
+        }
+    }
+    // Cells folded where only held nodes shape them are left to the refinement: each
+    // round would run the optimiser to its limit on them in vain.
+    let beyond_reach = invalid_where_held(mesh, &bad, &held)?;
+    if std::env::var_os("HOCURVE_DEBUG").is_some() {
+        eprintln!(
+            "untangle: {} not certified, {} beyond reach",
+            bad.len(),
+            beyond_reach.len()
+        );
+    }
+    bad.retain(|c| !beyond_reach.contains(c));
+    if bad.is_empty() {
+        return Ok((quality, done));
+    }
+    done.elements = bad.len();
     for rings in 1..=MAX_UNTANGLE_RINGS {
         let options = UntangleOptions {
             rings,
@@ -206,11 +226,77 @@ pub(crate) fn untangle_not_certified(
         done.rounds = rings;
         quality = assess(mesh)?;
         bad = repairable(&quality);
+        bad.retain(|c| !beyond_reach.contains(c));
         if bad.is_empty() {
             break;
         }
     }
     Ok((quality, done))
+}
+
+/// Reference points of a cell's edges (fractions of the edge from its first vertex) at
+/// which [`invalid_where_held`] looks, besides the vertices.
+const EDGE_SAMPLES: [f64; 3] = [0.25, 0.5, 0.75];
+
+/// The cells of `cells` with det J ≤ 0 at a point where the map is shaped by held nodes
+/// alone (`held[n]`): at a vertex, J is the derivatives along its edges, which the nodes of
+/// those edges fix; on an edge, the derivatives along the two faces meeting there. Where
+/// every node whose basis function has a gradient there is held, no move of the free
+/// nodes changes det J, so untangling cannot make the cell valid (splitting it can): a
+/// tetrahedron's corner whose three edges lie on the geometry and open flat once curved, a
+/// 2D cell's corner on two curved boundary edges. Which nodes matter is read off the
+/// basis (gradients above 1e-9 of the largest at the point), for every shape and family.
+pub(crate) fn invalid_where_held(
+    mesh: &HighOrderMesh,
+    cells: &[usize],
+    held: &[bool],
+) -> Result<Vec<usize>, CurveError> {
+    let mut tables = BTreeMap::new();
+    let mut out = Vec::new();
+    for &c in cells {
+        let Some(cell) = mesh.cells.get(c) else {
+            continue;
+        };
+        let shape = cell.kind;
+        if let std::collections::btree_map::Entry::Vacant(slot) = tables.entry(shape) {
+            let reference =
+                hocurve_nodes::ReferenceElement::shared(shape, mesh.order, mesh.family)?;
+            let vertices = shape.vertices();
+            let mut points: Vec<[f64; 3]> = vertices.to_vec();
+            for &[a, b] in shape.edges() {
+                for t in EDGE_SAMPLES {
+                    points.push(std::array::from_fn(|d| {
+                        vertices[a][d] + t * (vertices[b][d] - vertices[a][d])
+                    }));
+                }
+            }
+            let basis = reference.tabulate(&points);
+            // The local nodes whose basis functions have a gradient at each point.
+            let shaping: Vec<Vec<usize>> = (0..points.len())
+                .map(|q| {
+                    let g = basis.gradients(q);
+                    let size = |v: &[f64; 3]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+                    let largest = g.iter().map(size).fold(0.0, f64::max);
+                    (0..g.len())
+                        .filter(|&i| size(&g[i]) > 1e-9 * largest)
+                        .collect()
+                })
+                .collect();
+            slot.insert((basis, shaping));
+        }
+        let (basis, shaping) = &tables[&shape];
+        let coords: Vec<[f64; 3]> = cell.nodes.iter().map(|&n| mesh.nodes[n as usize]).collect();
+        let fixed_and_folded = shaping.iter().enumerate().any(|(q, nodes)| {
+            nodes
+                .iter()
+                .all(|&i| held.get(cell.nodes[i] as usize) == Some(&true))
+                && hocurve_nodes::determinant(&basis.jacobian(&coords, q), mesh.dim) <= 0.0
+        });
+        if fixed_and_folded {
+            out.push(c);
+        }
+    }
+    Ok(out)
 }
 
 /// The nodes a repair must not move (sorted): those on the geometry and every other
@@ -345,6 +431,58 @@ mod tests {
     use super::*;
     use hocurve_nurbs::shapes::{bilinear_patch, sphere};
     use hocurve_nurbs::{EntityGeometry, GeometricEntity, GeometryModel};
+
+    /// A quadratic triangle whose edge 0–1 bends back past the edge 0–2 at vertex 0: with
+    /// x_m the edge's middle node, the tangent at 0 is 4 x_m − 3 x_0 − x_1 = (−0.6, 1.2),
+    /// and det J(0) = det[(−0.6, 1.2), (0, 1)] = −0.6 whatever else moves. Beyond reach
+    /// when every node of both edges at vertex 0 is held, not when x_m is free; a cell
+    /// negative only where a free node shapes it is not.
+    #[test]
+    fn a_corner_folded_by_held_nodes_alone_is_beyond_the_untanglers_reach() {
+        let linear = hocurve_mesh::LinearMesh {
+            dim: 2,
+            vertices: vec![[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            cells: vec![hocurve_mesh::Element {
+                kind: Shape::Tri,
+                vertices: vec![0, 1, 2],
+                entity: 1,
+            }],
+            ..Default::default()
+        };
+        let mut mesh =
+            HighOrderMesh::from_linear(&linear, 2, hocurve_nodes::NodeFamily::Equispaced).unwrap();
+        let near = |mesh: &HighOrderMesh, x: [f64; 3]| {
+            (0..mesh.nodes.len())
+                .min_by(|&a, &b| {
+                    let d = |n: usize| {
+                        (0..2)
+                            .map(|k| (mesh.nodes[n][k] - x[k]).powi(2))
+                            .sum::<f64>()
+                    };
+                    d(a).total_cmp(&d(b))
+                })
+                .unwrap()
+        };
+        let middle = near(&mesh, [0.5, 0.0, 0.0]);
+        let opposite = near(&mesh, [0.5, 0.5, 0.0]);
+        mesh.nodes[middle] = [0.1, 0.3, 0.0];
+        let all_held = vec![true; mesh.nodes.len()];
+        assert_eq!(invalid_where_held(&mesh, &[0], &all_held).unwrap(), [0]);
+        let mut held = all_held.clone();
+        held[middle] = false;
+        assert!(invalid_where_held(&mesh, &[0], &held).unwrap().is_empty());
+        // Only the node opposite vertex 0 free: it does not shape J at vertex 0.
+        let mut held = all_held;
+        held[opposite] = false;
+        assert_eq!(invalid_where_held(&mesh, &[0], &held).unwrap(), [0]);
+        // Straight again: valid everywhere, nothing beyond reach.
+        mesh.nodes[middle] = [0.5, 0.0, 0.0];
+        assert!(
+            invalid_where_held(&mesh, &[0], &vec![true; mesh.nodes.len()])
+                .unwrap()
+                .is_empty()
+        );
+    }
 
     /// Nodes on one plane, or on two coplanar faces (an assembly's parts touching), slide
     /// in that plane; nodes where a plane meets a parallel one 1e-6 away, or a sphere, or
