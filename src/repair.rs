@@ -196,13 +196,6 @@ pub(crate) fn untangle_not_certified(
     // Cells folded where only held nodes shape them are left to the refinement: each
     // round would run the optimiser to its limit on them in vain.
     let beyond_reach = invalid_where_held(mesh, &bad, &held)?;
-    if std::env::var_os("HOCURVE_DEBUG").is_some() {
-        eprintln!(
-            "untangle: {} not certified, {} beyond reach",
-            bad.len(),
-            beyond_reach.len()
-        );
-    }
     bad.retain(|c| !beyond_reach.contains(c));
     if bad.is_empty() {
         return Ok((quality, done));
