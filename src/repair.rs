@@ -155,7 +155,8 @@ pub(crate) fn nodes_in_planar_faces(
 /// their plane and are put back onto it exactly after each round — like every other
 /// boundary node except the `sliding` ones, which move within their plane or line;
 /// `hopeless` the cells no node move can make valid (two faces on one curved entity
-/// meeting along an edge), which are not tried.
+/// meeting along an edge), which are not tried; nor are cells folded where held nodes
+/// alone shape them ([`invalid_where_held`]).
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn untangle_not_certified(
     mesh: &mut HighOrderMesh,
