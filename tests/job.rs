@@ -706,24 +706,32 @@ fn a_cell_no_repair_certifies_is_split_along_its_longest_chord_and_curved_again(
     assert!(r.max_geometry_distance < 1e-12);
 }
 
-/// A mesh saved with a physical group on the volume alone (Gmsh then writes no boundary
-/// triangles): the faces the cells leave uncovered are found and curved, and the file
-/// written holds the cells alone, as the input did. Before, the job stopped with "no
-/// boundary facet lies on the geometry".
+/// A mesh saved with physical groups on the volumes alone (Gmsh then writes no boundary
+/// triangles, nor the interface of the two volumes): the faces the cells leave uncovered
+/// and those where the volumes meet are found and curved, and the file written holds the
+/// cells alone, as the input did. Before, the job stopped with "no boundary facet lies on
+/// the geometry".
 #[test]
-fn a_mesh_whose_only_group_is_the_volume_is_curved_on_its_uncovered_faces() {
+fn a_mesh_whose_only_groups_are_volumes_is_curved_on_their_surfaces() {
     let dir = tempfile::tempdir().unwrap();
     let inputs = fixture_inputs("capsule_volume", "step");
-    assert!(inputs.linear.facets.is_empty());
-    let boundary = hocurve::mesh::Topology::new(&inputs.linear)
-        .unwrap()
-        .boundary_facets()
+    let linear = &inputs.linear;
+    assert!(linear.facets.is_empty());
+    let topology = hocurve::mesh::Topology::new(linear).unwrap();
+    let boundary = topology.boundary_facets().count();
+    let interface = (0..topology.num_faces())
+        .filter(|&f| {
+            let [a, b] = topology.facet_cells(f);
+            b != hocurve::mesh::NO_CELL
+                && linear.cells[a as usize].entity != linear.cells[b as usize].entity
+        })
         .count();
+    assert!(interface > 0);
     let outputs = mesh_only(dir.path().join("capsule.msh"));
     let finished = curve_and_write(&inputs, &options(3), &outputs, &mut |_| {}).unwrap();
     let r = &finished.curved.report;
-    assert_eq!(r.undeclared_facets, boundary);
-    assert_eq!(r.facets_by_proximity, boundary);
+    assert_eq!(r.undeclared_facets, boundary + interface);
+    assert_eq!(r.facets_by_proximity, boundary + interface);
     assert_eq!(r.certified_valid_elements, Some(r.elements));
     let written = hocurve::io::read_high_order_mesh(&outputs.mesh).unwrap();
     assert!(written.facets.is_empty());
@@ -742,6 +750,25 @@ fn a_mesh_whose_only_group_is_the_volume_is_curved_on_its_uncovered_faces() {
         }
     }
     assert!(on_boundary > 0);
+    // The core: a sphere of radius 0.25 about (1, 0, 0); its nodes are those of cells of
+    // both volumes.
+    let mut entities = vec![Vec::new(); written.nodes.len()];
+    for cell in &written.cells {
+        for &n in &cell.nodes {
+            if !entities[n as usize].contains(&cell.entity) {
+                entities[n as usize].push(cell.entity);
+            }
+        }
+    }
+    let on_core: Vec<usize> = (0..written.nodes.len())
+        .filter(|&n| entities[n].len() > 1)
+        .collect();
+    assert!(on_core.len() > 3 * interface / 2);
+    for n in on_core {
+        let x = written.nodes[n];
+        let d = (((x[0] - 1.0).powi(2) + x[1] * x[1] + x[2] * x[2]).sqrt() - 0.25).abs();
+        assert!(d < 1e-12, "node {n} is {d:e} off the core");
+    }
 }
 
 /// A 2D face whose normal is −z (built from a clockwise loop): Gmsh numbers its triangles

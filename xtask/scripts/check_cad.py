@@ -4,7 +4,8 @@
     target/pyenv/bin/python xtask/scripts/check_cad.py MESH.msh GEOMETRY(.json|.igs|.step) GROUP [--distance-only]
 
 - Every node of every boundary element of physical group GROUP (the curved wall; `*`: of
-  every boundary element in the file and of every cell face no other cell shares) lies on
+  every boundary element in the file and of every cell face no other cell shares or that
+  lies between two volumes) lies on
   the geometry: for a JSON sphere, | |x - c| - r | (a cylinder: its radial distance minus r;
   a circle: the same in the plane);
   for IGES and STEP, the distance to the nearest
@@ -82,30 +83,32 @@ def group_nodes(name):
 
 
 def uncovered_facet_nodes():
-    """The nodes, by Gmsh's own face (2D: edge) nodes of each cell, of the facets that
-    belong to one cell only."""
+    """The nodes, by Gmsh's own face (2D: edge) nodes of each cell, of the facets on the
+    boundary of a model entity: those of one cell, and those between cells of two
+    entities (two volumes' interface)."""
     dim = gmsh.model.getDimension()
     facets = []
-    for etype in gmsh.model.mesh.getElementTypes(dim):
-        kinds = (3, 4) if dim == 3 else (2,)
-        for kind in kinds:
-            if dim == 3:
-                corners = gmsh.model.mesh.getElementFaceNodes(etype, kind, primary=True)
-                full = gmsh.model.mesh.getElementFaceNodes(etype, kind, primary=False)
-            else:
-                corners = gmsh.model.mesh.getElementEdgeNodes(etype, primary=True)
-                full = gmsh.model.mesh.getElementEdgeNodes(etype, primary=False)
-            per = kind if dim == 3 else 2
-            count = len(corners) // per
-            if count == 0:
-                continue
-            corners = np.asarray(corners).reshape(count, per)
-            full = np.asarray(full).reshape(count, -1)
-            facets.extend(zip(map(lambda c: tuple(sorted(c)), corners.tolist()), full.tolist()))
-    seen = {}
-    for key, _ in facets:
-        seen[key] = seen.get(key, 0) + 1
-    return {int(n) for key, full in facets if seen[key] == 1 for n in full}
+    for _, entity in gmsh.model.getEntities(dim):
+        for etype in gmsh.model.mesh.getElementTypes(dim, entity):
+            for kind in ((3, 4) if dim == 3 else (2,)):
+                if dim == 3:
+                    corners = gmsh.model.mesh.getElementFaceNodes(etype, kind, entity, True)
+                    full = gmsh.model.mesh.getElementFaceNodes(etype, kind, entity, False)
+                else:
+                    corners = gmsh.model.mesh.getElementEdgeNodes(etype, entity, True)
+                    full = gmsh.model.mesh.getElementEdgeNodes(etype, entity, False)
+                per = kind if dim == 3 else 2
+                count = len(corners) // per
+                if count == 0:
+                    continue
+                corners = np.asarray(corners).reshape(count, per).tolist()
+                full = np.asarray(full).reshape(count, -1).tolist()
+                facets.extend((tuple(sorted(c)), entity, f) for c, f in zip(corners, full))
+    owners = {}
+    for key, entity, _ in facets:
+        owners.setdefault(key, []).append(entity)
+    return {int(n) for key, _, full in facets
+            if len(owners[key]) == 1 or len(set(owners[key])) > 1 for n in full}
 
 
 def read_msh41(path, group):

@@ -1,6 +1,7 @@
 //! What a Gmsh file may leave out of a mesh that curving needs, recovered from its cells:
 //! the boundary facets it did not declare (a file whose only physical group is the volume
-//! holds no facets at all, and one with a group on some walls only holds those), and the
+//! holds no facets at all, one with a group on some walls only those, one whose groups are
+//! two volumes not the surface between them), and the
 //! counter-clockwise numbering of 2D cells (Gmsh numbers a surface's cells by the surface's
 //! normal, which points along −z for a face built from a clockwise loop).
 
@@ -25,8 +26,11 @@ impl Element {
 }
 
 impl LinearMesh {
-    /// The boundary facets of the cells — faces in 3D, edges in 2D, that belong to one cell
-    /// — that the file does not declare, vertices in the cell's local order. Facet k gets
+    /// The facets of the cells — faces in 3D, edges in 2D — on the boundary of a model
+    /// entity that the file does not declare: those of one cell, and those between cells of
+    /// two entities (the interface of two volumes, two materials, whose CAD face the file
+    /// leaves out when its groups are the volumes), vertices in the first cell's local
+    /// order. Facet k gets
     /// the entity tag −1 − k: each is its own mesh entity (nothing says which surface of
     /// the model it was meshed on), and [`Element::is_undeclared_facet`] tells them apart.
     /// None when some declared element already has a negative entity tag.
@@ -64,7 +68,12 @@ impl LinearMesh {
                     .collect()
             };
             for (id, corners) in local {
-                if topology.facet_cells(id as usize)[1] != NO_CELL {
+                let [first, second] = topology.facet_cells(id as usize);
+                // Each facet once: from its first cell, on the boundary or where two
+                // volumes (surfaces in 2D) of the model meet.
+                let between = second != NO_CELL
+                    && self.cells.get(second as usize).map(|e| e.entity) != Some(cell.entity);
+                if first as usize != c || (second != NO_CELL && !between) {
                     continue;
                 }
                 let vertices: Vec<u32> = corners.iter().map(|&k| cell.vertices[k]).collect();

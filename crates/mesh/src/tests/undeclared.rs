@@ -59,6 +59,22 @@ fn the_faces_of_one_cell_that_the_file_leaves_out_are_found() {
     assert_eq!(high.facets[0].entity, 7);
 }
 
+/// Two volumes of the model (two materials) meeting at the face 1 2 3: the file leaves that
+/// interface out when its groups are the volumes; it is found once.
+#[test]
+fn the_face_between_two_volumes_is_found_once() {
+    let mut mesh = two_tets();
+    mesh.cells[1].entity = 2;
+    let found = mesh.undeclared_boundary_facets().unwrap();
+    assert_eq!(found.len(), 6);
+    let shared = canonical_face(&[1, 2, 3]);
+    let copies = found
+        .iter()
+        .filter(|f| canonical_face(&f.vertices) == shared)
+        .count();
+    assert_eq!(copies, 1);
+}
+
 #[test]
 fn a_prisms_uncovered_faces_are_triangles_and_quadrilaterals() {
     let mesh = LinearMesh {
