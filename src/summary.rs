@@ -10,7 +10,8 @@ use crate::job::Measured;
 use crate::pipeline::{CurveOptions, CurveReport, CurvedMesh};
 
 /// The summary table printed after a run, at most 10 rows (with the two input lines, a
-/// run prints at most 12): output and sizes; boundary and distance to the geometry; sliding
+/// run prints at most 12): output and sizes; boundary and distance to the geometry; what
+/// the input left out (facets found from the cells, clockwise cells renumbered); sliding
 /// nodes; elasticity (with the boundary-layer treatment); method adjustments; quality;
 /// validity; repair; time and memory. Rows that would say "none" are left out; every
 /// number is also in the `--report`, which has the rest.
