@@ -44,7 +44,7 @@ impl Uncertified {
                     .map(|v| format!(", Ĩ ≥ {:.3}", v[c].scaled_jacobian_lower_bound))
                     .unwrap_or_default();
                 let cause = if curved.report.doubly_curved_cells.contains(&c) {
-                    " (two of its faces lie on one curved surface and meet along an edge: curved, they open to 180° there, det J = 0; split this cell in the input)"
+                    " (two of its faces lie on one curved surface and meet along an edge: curved, they open to 180° there, det J = 0; split this cell in the input, or mesh finer there so that no cell has two faces on one curved surface, e.g. Gmsh's Mesh.MeshSizeFromCurvature)"
                 } else {
                     ""
                 };
