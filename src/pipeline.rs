@@ -279,10 +279,11 @@ pub fn curve_mesh(
 /// The input as curving needs it, when it is not the file's: 2D cells numbered clockwise
 /// by their surface renumbered counter-clockwise (the certification and every solver
 /// reading the result take det J > 0 for valid), and — when there is a geometry — the
-/// boundary facets the file did not declare found from the cells (a file whose only
-/// physical group is the volume has none; one with groups on some walls has only those),
-/// so that every boundary facet on the geometry is curved, as the written cells' nodes
-/// are checked; they are not written ([`HighOrderMesh::drop_undeclared_facets`]).
+/// facets the file did not declare found from the cells
+/// ([`LinearMesh::undeclared_boundary_facets`]: a file whose only physical groups are
+/// volumes has none, nor the interface between two of them; one with groups on some walls
+/// has only those), so that every such facet on the geometry is curved, as the written
+/// cells' nodes are checked; they are not written ([`HighOrderMesh::drop_undeclared_facets`]).
 struct CompletedInput {
     /// The completed mesh; None when it is the input.
     mesh: Option<LinearMesh>,

@@ -49,7 +49,7 @@ pub fn summary_table(curved: &CurvedMesh, out: &Path) -> String {
         let mut found = Vec::new();
         if r.undeclared_facets > 0 {
             found.push(format!(
-                "{} boundary facet(s) not in the file found from the cells and curved (not written)",
+                "{} facet(s) the file leaves out found from the cells (curved where on the geometry, not written)",
                 r.undeclared_facets
             ));
         }
